@@ -1,0 +1,26 @@
+// Free-flight (density) sampling in a homogeneous medium with RGB extinction σt.
+// One channel c is picked uniformly and t ~ σt_c·exp(−σt_c·t); the density of the sample
+// is the average over channels (one-sample MIS with the balance heuristic across channels),
+// so no channel's weight blows up when another channel is much denser.
+#pragma once
+#include "brume/math/vec3.h"
+
+namespace brume {
+
+inline Spectrum transmittance(Spectrum sigmaT, float t) {
+    // Written per channel so that σt = 0 over an infinite distance gives 1, not NaN.
+    auto tr = [t](float s) { return s > 0 ? std::exp(-s * t) : 1.0f; };
+    return {tr(sigmaT.x), tr(sigmaT.y), tr(sigmaT.z)};
+}
+
+// u in [0,1): the first third picks red, etc.; the remainder is reused for the distance.
+// Returns +∞ if the chosen channel has σt = 0.
+float sampleFreeFlight(Spectrum sigmaT, float u);
+
+// Density of scattering at t: avg_c σt_c·exp(−σt_c·t).
+float freeFlightPdfScatter(Spectrum sigmaT, float t);
+
+// Probability of flying past t: avg_c exp(−σt_c·t).
+float freeFlightPdfPass(Spectrum sigmaT, float t);
+
+}  // namespace brume

@@ -1,0 +1,29 @@
+// Light sources. Units are radiometric: point, spot and sphere lights carry a radiant
+// intensity I [W/sr]; a directional light an irradiance E [W/m²]; an emissive triangle gets
+// its radiance from its mesh's material.
+#pragma once
+#include "brume/math/vec3.h"
+
+namespace brume {
+
+enum class LightKind { Point, Spot, Sphere, Directional, Triangle };
+
+struct Light {
+    LightKind kind = LightKind::Point;
+    Vec3 position;                 // point, spot, sphere: centre
+    Vec3 direction{0, 0, -1};      // spot axis / directional travel direction (node −Z)
+    Spectrum intensity{0.0f};      // I [W/sr] (point, spot, sphere) or E [W/m²] (directional)
+    float radius = 0;              // sphere: uniform surface radiance I/(π r²)
+    float cosInner = 1, cosOuter = 0;  // spot cone (glTF innerConeAngle, outerConeAngle)
+    int mesh = -1, triangle = -1;  // triangle: which mesh and which triangle of it
+};
+
+// glTF spot attenuation: scale = 1/max(0.001, cosInner − cosOuter), offset = −cosOuter·scale,
+// a = clamp(cosθ·scale + offset, 0, 1)², θ measured from the spot axis.
+inline float spotAttenuation(const Light& l, float cosTheta) {
+    float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
+    float a = std::min(1.0f, std::max(0.0f, cosTheta * scale - l.cosOuter * scale));
+    return a * a;
+}
+
+}  // namespace brume

@@ -1,0 +1,82 @@
+// The renderable scene: a SceneDescription plus one Embree scene over all meshes, the light
+// list (punctual lights, then one entry per emissive triangle) and the light-picking
+// distribution (proportional to power).
+#pragma once
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <vector>
+
+#include "brume/math/ray.h"
+#include "brume/sampling/distribution1d.h"
+#include "brume/scene/scene_description.h"
+
+namespace brume {
+
+// Where a ray met a surface, with everything shading needs.
+struct SurfaceHit {
+    float t = kInfinity;
+    Vec3 p;
+    Vec3 ng;          // geometric normal, front (counter-clockwise) side, unit
+    Vec3 ns;          // shading normal on the same side as ng, unit
+    float u = 0, v = 0;  // texture coordinates
+    int mesh = -1, triangle = -1;
+    bool valid() const { return mesh >= 0; }
+};
+
+// The media a point lies in: a small stack of bounded media (the innermost on top) and the
+// ambient medium below them. Crossing a medium boundary toggles that medium in the stack,
+// so boundaries work whichever way their triangles wind.
+struct MediumStack {
+    static constexpr int kMaxDepth = 6;
+    int media[kMaxDepth];
+    int count = 0;
+    int ambient = -1;
+    int current() const { return count > 0 ? media[count - 1] : ambient; }
+    void toggle(int medium);
+};
+
+class Scene {
+public:
+    explicit Scene(SceneDescription desc);
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    const SceneDescription& desc() const { return desc_; }
+    const Camera& camera() const { return desc_.camera; }
+    const std::vector<Light>& lights() const { return lights_; }
+    const Distribution1D& lightDistribution() const { return lightDistribution_; }
+    const Medium* medium(int index) const { return index >= 0 ? &desc_.media[index] : nullptr; }
+    const Material& material(int mesh) const { return desc_.materials[desc_.meshes[mesh].material]; }
+    const Mesh& mesh(int index) const { return desc_.meshes[index]; }
+    bool hasMedia() const { return !desc_.media.empty(); }
+    Vec3 boundsCenter() const { return boundsCenter_; }
+    float boundsRadius() const { return boundsRadius_; }
+
+    // Closest hit along the ray within [0, ray.tmax).
+    SurfaceHit intersect(const Ray& ray) const;
+    // True if anything blocks the ray within [0, ray.tmax).
+    bool occluded(const Ray& ray) const;
+    // Light index of an emissive triangle, or -1.
+    int triangleLight(int mesh, int triangle) const;
+    // Emitted radiance leaving a surface point towards direction w (unit, away from it).
+    Spectrum emission(const SurfaceHit& hit, Vec3 w) const;
+
+    // The media at point p, by counting crossings of each medium boundary (odd = inside).
+    MediumStack mediaAt(Vec3 p) const;
+
+    RTCScene embreeScene() const { return rtcScene_; }
+
+private:
+    SceneDescription desc_;
+    std::vector<Light> lights_;
+    std::vector<int> firstTriangleLight_;  // per mesh, -1 if not emissive
+    Distribution1D lightDistribution_;
+    Vec3 boundsCenter_;
+    float boundsRadius_ = 0;
+    RTCDevice device_ = nullptr;
+    RTCScene rtcScene_ = nullptr;
+};
+
+}  // namespace brume

@@ -1,0 +1,26 @@
+#include "brume/sampling/free_flight.h"
+
+#include <limits>
+
+namespace brume {
+
+float sampleFreeFlight(Spectrum sigmaT, float u) {
+    int c = std::min(2, int(u * 3.0f));
+    float v = u * 3.0f - float(c);  // remaining uniform in [0,1)
+    float s = sigmaT[c];
+    if (s <= 0) return std::numeric_limits<float>::infinity();
+    return -std::log1p(-v) / s;
+}
+
+float freeFlightPdfScatter(Spectrum sigmaT, float t) {
+    float sum = 0;
+    for (int c = 0; c < 3; ++c)
+        if (sigmaT[c] > 0) sum += sigmaT[c] * std::exp(-sigmaT[c] * t);
+    return sum * (1.0f / 3.0f);
+}
+
+float freeFlightPdfPass(Spectrum sigmaT, float t) {
+    return average(transmittance(sigmaT, t));
+}
+
+}  // namespace brume

@@ -1,0 +1,2 @@
+// Shared helpers for the tests (statistics, chi-square).
+#pragma once

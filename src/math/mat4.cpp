@@ -58,7 +58,7 @@ Vec3 Mat4::normal(Vec3 n) const {
         }
     double r[3];
     for (int i = 0; i < 3; ++i) r[i] = c[i][0] * n.x + c[i][1] * n.y + c[i][2] * n.z;
-    Vec3 out(float(r[0]), float(r[1]), float(r[2]));
+    Vec3 out{float(r[0]), float(r[1]), float(r[2])};
     float len = length(out);
     return len > 0 ? out / len : n;
 }

@@ -21,7 +21,8 @@ struct SurfaceHit {
     Vec3 ns;          // shading normal on the same side as ng, unit
     float u = 0, v = 0;  // texture coordinates
     int mesh = -1, triangle = -1;
-    bool valid() const { return mesh >= 0; }
+    int sphereLight = -1;  // index into lights() when the ray hit a sphere light instead
+    bool valid() const { return mesh >= 0 || sphereLight >= 0; }
 };
 
 // The media a point lies in: a small stack of bounded media (the innermost on top) and the
@@ -54,10 +55,10 @@ public:
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
 
-    // Closest hit along the ray within [0, ray.tmax).
+    // Closest hit along the ray within [0, ray.tmax): triangles and sphere lights.
     SurfaceHit intersect(const Ray& ray) const;
-    // True if anything blocks the ray within [0, ray.tmax).
-    bool occluded(const Ray& ray) const;
+    // True if a triangle or a sphere light other than `ignoreLight` blocks [0, ray.tmax).
+    bool occluded(const Ray& ray, int ignoreLight = -1) const;
     // Light index of an emissive triangle, or -1.
     int triangleLight(int mesh, int triangle) const;
     // Emitted radiance leaving a surface point towards direction w (unit, away from it).
@@ -65,13 +66,16 @@ public:
 
     // The media at point p, by counting crossings of each medium boundary (odd = inside).
     MediumStack mediaAt(Vec3 p) const;
+    const MediumStack& cameraMedia() const { return cameraMedia_; }
 
     RTCScene embreeScene() const { return rtcScene_; }
 
 private:
     SceneDescription desc_;
     std::vector<Light> lights_;
-    std::vector<int> firstTriangleLight_;  // per mesh, -1 if not emissive
+    std::vector<int> firstTriangleLight_;
+    std::vector<int> sphereLights_;  // indices of sphere lights, intersected analytically
+    MediumStack cameraMedia_;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

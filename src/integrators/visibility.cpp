@@ -1,0 +1,35 @@
+#include "brume/integrators/visibility.h"
+
+#include "brume/sampling/free_flight.h"
+
+namespace brume {
+
+Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, int ignoreLight,
+                            PathStats& stats) {
+    if (!scene.hasMedia()) {  // no media, no boundaries to pass: one occlusion query
+        ++stats.rays;
+        return scene.occluded(Ray{o, d, dist}, ignoreLight) ? Spectrum(0.0f) : Spectrum(1.0f);
+    }
+    Spectrum T(1.0f);
+    float remaining = dist;
+    for (int crossings = 0; crossings < 64; ++crossings) {
+        ++stats.rays;
+        SurfaceHit hit = scene.intersect(Ray{o, d, remaining});
+        if (hit.sphereLight >= 0 && hit.sphereLight == ignoreLight) hit = SurfaceHit{};
+        const Medium* m = scene.medium(media.current());
+        float segment = hit.valid() ? hit.t : remaining;
+        if (m) T *= transmittance(m->sigmaT(), segment);
+        if (!hit.valid()) return T;
+        if (hit.mesh < 0 || scene.material(hit.mesh).kind != MaterialKind::Invisible) return Spectrum(0.0f);
+        if (isBlack(T)) return T;
+        int interior = scene.mesh(hit.mesh).interiorMedium;
+        if (interior >= 0) media.toggle(interior);
+        float eps = rayEpsilon(hit.p);
+        o = hit.p + d * eps;
+        remaining -= hit.t + eps;
+        if (!(remaining > 0)) return T;
+    }
+    return Spectrum(0.0f);  // pathological stack of boundaries: treat as blocked
+}
+
+}  // namespace brume

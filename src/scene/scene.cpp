@@ -1,0 +1,223 @@
+#include "brume/scene/scene.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "brume/scene/light_sampling.h"
+#include "brume/scene/sphere_intersect.h"
+
+namespace brume {
+
+void MediumStack::toggle(int medium) {
+    for (int i = 0; i < count; ++i)
+        if (media[i] == medium) {  // leaving: remove it, keep the order of the rest
+            for (int j = i; j + 1 < count; ++j) media[j] = media[j + 1];
+            --count;
+            return;
+        }
+    if (count < kMaxDepth) media[count++] = medium;  // entering
+}
+
+// Embree calls this from C code, so it must not throw; errors surface as missing hits.
+static void embreeError(void*, RTCError code, const char* message) {
+    std::fprintf(stderr, "brume: embree error %d: %s\n", int(code), message ? message : "");
+}
+
+Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("cannot create an Embree device");
+    rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
+    rtcScene_ = rtcNewScene(device_);
+
+    Vec3 lo(kInfinity), hi(-kInfinity);
+    auto grow = [&](Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); };
+    grow(desc_.camera.position);
+
+    for (size_t m = 0; m < desc_.meshes.size(); ++m) {
+        const Mesh& mesh = desc_.meshes[m];
+        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // rtcSetNewGeometryBuffer pads the allocation as Embree's SSE loads require.
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), mesh.positions.size()));
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+            v[3 * i] = mesh.positions[i].x;
+            v[3 * i + 1] = mesh.positions[i].y;
+            v[3 * i + 2] = mesh.positions[i].z;
+            grow(mesh.positions[i]);
+        }
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), mesh.triangleCount()));
+        std::copy(mesh.indices.begin(), mesh.indices.end(), idx);
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(rtcScene_, geom, unsigned(m));
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(rtcScene_);
+
+    lights_ = desc_.lights;
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        if (lights_[i].kind != LightKind::Directional) grow(lights_[i].position);
+        if (lights_[i].kind == LightKind::Sphere) sphereLights_.push_back(int(i));
+    }
+    boundsCenter_ = (lo + hi) * 0.5f;
+    boundsRadius_ = std::max(1e-3f, 0.5f * length(hi - lo));
+
+    // Emissive triangles become lights of their own, after the punctual ones.
+    firstTriangleLight_.assign(desc_.meshes.size(), -1);
+    for (size_t m = 0; m < desc_.meshes.size(); ++m) {
+        const Mesh& mesh = desc_.meshes[m];
+        if (mesh.material < 0 || !desc_.materials[mesh.material].isEmissive()) continue;
+        firstTriangleLight_[m] = int(lights_.size());
+        for (int t = 0; t < mesh.triangleCount(); ++t) {
+            Light l;
+            l.kind = LightKind::Triangle;
+            l.mesh = int(m);
+            l.triangle = t;
+            lights_.push_back(l);
+        }
+    }
+    std::vector<float> power(lights_.size());
+    for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
+    lightDistribution_ = Distribution1D(power);
+
+    cameraMedia_ = mediaAt(desc_.camera.position);
+}
+
+Scene::~Scene() {
+    if (rtcScene_) rtcReleaseScene(rtcScene_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+static RTCRayHit toEmbree(const Ray& ray) {
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.time = 0.0f;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
+SurfaceHit Scene::intersect(const Ray& ray) const {
+    SurfaceHit hit;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh = toEmbree(ray);
+    rtcIntersect1(rtcScene_, &context, &rh);
+
+    float tClosest = ray.tmax;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) tClosest = rh.ray.tfar;
+    for (int li : sphereLights_) {
+        float t;
+        if (intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, tClosest, &t)) {
+            tClosest = t;
+            hit.sphereLight = li;
+        }
+    }
+    if (hit.sphereLight >= 0) {
+        hit.t = tClosest;
+        hit.p = ray.at(tClosest);
+        Vec3 n = hit.p - lights_[hit.sphereLight].position;
+        float len = length(n);
+        hit.ng = hit.ns = len > 0 ? n / len : -ray.d;
+        return hit;
+    }
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+
+    const Mesh& mesh = desc_.meshes[rh.hit.geomID];
+    int tri = int(rh.hit.primID);
+    uint32_t i0 = mesh.indices[3 * tri], i1 = mesh.indices[3 * tri + 1], i2 = mesh.indices[3 * tri + 2];
+    Vec3 p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+    float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0f - b1 - b2;
+    hit.t = rh.ray.tfar;
+    hit.mesh = int(rh.hit.geomID);
+    hit.triangle = tri;
+    hit.p = p0 * b0 + p1 * b1 + p2 * b2;
+    Vec3 ng = cross(p1 - p0, p2 - p0);  // counter-clockwise winding: front side
+    float len = length(ng);
+    hit.ng = len > 0 ? ng / len : -ray.d;
+    hit.ns = hit.ng;
+    if (!mesh.normals.empty()) {
+        Vec3 ns = mesh.normals[i0] * b0 + mesh.normals[i1] * b1 + mesh.normals[i2] * b2;
+        float lns = length(ns);
+        if (lns > 0 && std::isfinite(lns)) {
+            ns = ns / lns;
+            hit.ns = dot(ns, hit.ng) < 0 ? -ns : ns;
+        }
+    }
+    if (!mesh.uvs.empty()) {
+        hit.u = mesh.uvs[2 * i0] * b0 + mesh.uvs[2 * i1] * b1 + mesh.uvs[2 * i2] * b2;
+        hit.v = mesh.uvs[2 * i0 + 1] * b0 + mesh.uvs[2 * i1 + 1] * b1 + mesh.uvs[2 * i2 + 1] * b2;
+    }
+    return hit;
+}
+
+bool Scene::occluded(const Ray& ray, int ignoreLight) const {
+    for (int li : sphereLights_) {
+        float t;
+        if (li != ignoreLight && intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, ray.tmax, &t))
+            return true;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh = toEmbree(ray);
+    rtcOccluded1(rtcScene_, &context, &rh.ray);
+    return rh.ray.tfar < 0;  // Embree sets tfar = −∞ on a hit
+}
+
+int Scene::triangleLight(int mesh, int triangle) const {
+    int first = firstTriangleLight_[mesh];
+    return first < 0 ? -1 : first + triangle;
+}
+
+Spectrum Scene::emission(const SurfaceHit& hit, Vec3 w) const {
+    if (hit.sphereLight >= 0) {
+        const Light& l = lights_[hit.sphereLight];
+        return dot(hit.ng, w) > 0 ? l.intensity / (kPi * l.radius * l.radius) : Spectrum(0.0f);
+    }
+    const Material& m = material(hit.mesh);
+    if (!m.isEmissive()) return Spectrum(0.0f);
+    if (!m.doubleSided && dot(hit.ng, w) <= 0) return Spectrum(0.0f);
+    Spectrum L = m.emission;
+    if (m.emissiveTexture >= 0) L *= desc_.textures[m.emissiveTexture].lookup(hit.u, hit.v);
+    return L;
+}
+
+MediumStack Scene::mediaAt(Vec3 p) const {
+    MediumStack stack;
+    stack.ambient = desc_.ambientMedium;
+    // Walk a ray from p to infinity; a boundary crossed an odd number of times encloses p.
+    // The boundary met first is the innermost, so media are pushed farthest-first.
+    struct Crossing { int mesh; int count; float first; };
+    std::vector<Crossing> crossings;
+    Ray ray{p, normalize(Vec3(0.3141f, 0.8660f, 0.3872f)), kInfinity};
+    float tBase = 0;
+    for (int guard = 0; guard < 100000; ++guard) {
+        SurfaceHit hit = intersect(ray);
+        if (!hit.valid()) break;
+        tBase += hit.t;
+        if (hit.mesh >= 0 && desc_.meshes[hit.mesh].interiorMedium >= 0) {
+            auto it = std::find_if(crossings.begin(), crossings.end(), [&](const Crossing& c) { return c.mesh == hit.mesh; });
+            if (it == crossings.end()) crossings.push_back({hit.mesh, 1, tBase});
+            else ++it->count;
+        }
+        ray.o = hit.p + ray.d * rayEpsilon(hit.p);
+        tBase += rayEpsilon(hit.p);
+    }
+    std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) { return a.first > b.first; });
+    for (const Crossing& c : crossings)
+        if (c.count % 2 == 1) stack.toggle(desc_.meshes[c.mesh].interiorMedium);
+    return stack;
+}
+
+}  // namespace brume

@@ -1,5 +1,6 @@
 #include "brume/integrators/path_tracer.h"
 
+#include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/visibility.h"
 #include "brume/sampling/free_flight.h"
@@ -9,52 +10,133 @@
 
 namespace brume {
 
+// Strategies for light reaching a path through a point on a medium segment. A light path
+// x(t) → y is a pair (t on the segment, y on the light); three strategies can make it:
+//   A  free-flight t, then a light sample y from x(t):      pA = p_ff(t) · P(light) · p_L(y|x)
+//   B  free-flight t, then phase sampling hits y:           pB = p_ff(t) · p_phase(ω)
+//   C  light anchor first, t equi-angular towards it, y:    pC = P(light) · p_L(y|x) · p_ea(t)
+// All in the same measure (dt × solid angle at x(t)); p_L(y|x) is the same solid-angle
+// density in A and C (uniform area on a triangle, whose point doubles as C's anchor; the
+// subtended cone of a sphere, whose centre is C's anchor; a delta for point and spot lights,
+// for which B is impossible). Each estimate is weighted by the power heuristic
+// p_self² / (pA² + pB² + pC²) over the strategies the mode turns on. At surfaces only A and B.
 namespace {
 
-// A scattering vertex as next-event estimation sees it: a surface with a BSDF, or a medium
-// point with a phase function.
+float powerWeight(float self, float other1, float other2) {
+    float s = self * self, sum = s + other1 * other1 + other2 * other2;
+    return sum > 0 ? s / sum : 0.0f;
+}
+
+// Where a medium vertex came from: needed to weigh strategies that could have made it.
+struct MediumOrigin {
+    MediumSegment seg;
+    float t = 0;
+    float pFreeFlight = 0;  // p_ff(t) within the segment
+};
+
+// A scattering vertex as next-event estimation sees it.
 struct Vertex {
     Vec3 p;
-    Vec3 wo;                      // towards the previous vertex
-    const Bsdf* bsdf = nullptr;   // surface vertex
-    Vec3 ng;                      // surface vertex: geometric normal
-    const Medium* medium = nullptr;  // medium vertex (bsdf == nullptr)
+    Vec3 wo;                         // towards the previous vertex
+    const Bsdf* bsdf = nullptr;      // surface vertex
+    Vec3 ng;                         // surface vertex: geometric normal
+    const MediumOrigin* origin = nullptr;  // medium vertex
 
-    // f·|cos| (surface) or phase (medium) for the continuation wi, and its sampling density.
     Spectrum eval(Vec3 wi, float* pdf) const {
         if (bsdf) {
             *pdf = bsdf->pdf(wo, wi);
             return bsdf->eval(wo, wi);
         }
-        float p = hgPhase(dot(-wo, wi), medium->g);
+        float p = hgPhase(dot(-wo, wi), origin->seg.medium->g);
         *pdf = p;
         return Spectrum(p);
     }
 };
 
-// Next-event estimation: one light picked by power, one point on it, MIS-weighted against
-// the BSDF/phase sampling that could have found the same point (power heuristic).
-Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, Sampler& sampler,
-                      PathStats& stats) {
+// Equi-angular density of t on `origin`'s segment for a light whose sampled point is y.
+float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const MediumOrigin& origin) {
+    Vec3 anchor = light.kind == LightKind::Triangle ? y : light.position;
+    EquiAngular ea;
+    if (!equiAngularTowards(scene, light, anchor, origin.seg, &ea)) return 0.0f;
+    return equiAngularPdf(ea, origin.t);
+}
+
+bool usesDensity(ConnectMode m, const Light& l) { return m != ConnectMode::EquiAngular || l.kind == LightKind::Directional; }
+bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
+
+// Shadow-ray distance: stop short of the light's own surface so it does not shadow itself.
+float shadowDistance(const LightSample& ls) {
+    return std::isinf(ls.dist) ? ls.dist : ls.dist * (1.0f - 1e-4f) - rayEpsilon(ls.p);
+}
+
+// Strategy A: next-event estimation from a surface or free-flight medium vertex.
+Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
+                      Sampler& sampler, PathStats& stats) {
     float uPick = sampler.next1D();
     Sample2 uLight = sampler.next2D();
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
-    float pickProb;
-    int li = scene.lightDistribution().sample(uPick, &pickProb);
+    float pick;
+    int li = scene.lightDistribution().sample(uPick, &pick);
     const Light& light = scene.lights()[li];
+    if (v.origin && !usesDensity(mode, light)) return Spectrum(0.0f);  // C's job in this mode
     LightSample ls;
     if (!sampleLight(scene, light, v.p, uLight, &ls) || isBlack(ls.Le)) return Spectrum(0.0f);
     float scatterPdf;
     Spectrum f = v.eval(ls.wi, &scatterPdf);
     if (isBlack(f)) return Spectrum(0.0f);
+    float w;
+    if (v.origin) {
+        float pff = v.origin->pFreeFlight;
+        float pA = pff * pick * ls.pdf;
+        float pB = ls.isDelta ? 0.0f : pff * scatterPdf;
+        float pC = usesEquiAngular(mode, light) ? pick * ls.pdf * equiAngularDensity(scene, light, ls.p, *v.origin) : 0.0f;
+        w = powerWeight(pA, pB, pC);
+    } else {
+        w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
+    }
+    if (w == 0) return Spectrum(0.0f);
     Vec3 o = v.bsdf ? offsetOrigin(v.p, v.ng, ls.wi) : v.p;
-    // Stop short of the light's own surface so that it does not shadow itself.
-    float dist = std::isinf(ls.dist) ? ls.dist : ls.dist * (1.0f - 1e-4f) - rayEpsilon(ls.p);
-    Spectrum T = transmittanceAlong(scene, o, ls.wi, dist, media, li, stats);
-    if (isBlack(T)) return Spectrum(0.0f);
-    float lightPdfTotal = pickProb * ls.pdf;
-    float w = ls.isDelta ? 1.0f : powerHeuristic(lightPdfTotal, scatterPdf);
-    return f * ls.Le * T * (w / lightPdfTotal);
+    Spectrum T = transmittanceAlong(scene, o, ls.wi, shadowDistance(ls), media, li, stats);
+    return f * ls.Le * T * (w / (pick * ls.pdf));
+}
+
+// Strategy C: a light and its anchor first, then t equi-angularly on the segment, then the
+// connection. Returns the estimate to be multiplied by the throughput at the segment start.
+Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
+                           ConnectMode mode, Sampler& sampler, PathStats& stats) {
+    float uPick = sampler.next1D();
+    Sample2 uAnchor = sampler.next2D();
+    float uT = sampler.next1D();
+    Sample2 uLight = sampler.next2D();
+    if (scene.lightDistribution().empty()) return Spectrum(0.0f);
+    float pick;
+    int li = scene.lightDistribution().sample(uPick, &pick);
+    const Light& light = scene.lights()[li];
+    if (!usesEquiAngular(mode, light)) return Spectrum(0.0f);
+    Vec3 anchor;
+    EquiAngular ea;
+    if (!equiAngularAnchor(scene, light, uAnchor, &anchor) || !equiAngularTowards(scene, light, anchor, seg, &ea))
+        return Spectrum(0.0f);
+    MediumOrigin origin{seg, sampleEquiAngular(ea, uT), 0.0f};
+    float pea = equiAngularPdf(ea, origin.t);
+    if (!(pea > 0) || !std::isfinite(pea)) return Spectrum(0.0f);
+    Vec3 x = seg.o + seg.d * origin.t;
+    // A triangle's light sample from the same numbers lands exactly on the anchor.
+    LightSample ls;
+    if (!sampleLight(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : uLight, &ls) || isBlack(ls.Le))
+        return Spectrum(0.0f);
+    const Medium& m = *seg.medium;
+    float phase = hgPhase(dot(seg.d, ls.wi), m.g);
+    Spectrum sigmaT = m.sigmaT();
+    origin.pFreeFlight = freeFlightPdfScatter(sigmaT, origin.t);
+    float pC = pick * ls.pdf * pea;
+    float pA = mode == ConnectMode::Mis ? origin.pFreeFlight * pick * ls.pdf : 0.0f;
+    float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;
+    float w = powerWeight(pC, pA, pB);
+    if (w == 0) return Spectrum(0.0f);
+    Spectrum T = transmittanceAlong(scene, x, ls.wi, shadowDistance(ls), media, li, stats);
+    if (isBlack(T)) return T;
+    return transmittance(sigmaT, origin.t) * m.sigmaS * ls.Le * T * (phase * w / pC);
 }
 
 }  // namespace
@@ -62,6 +144,8 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
 Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                             PathStats& stats) const {
     const bool nee = options_.nextEventEstimation;
+    const ConnectMode mode = options_.connect;
+    const int maxDepth = options_.maxDepth < 0 ? 1 << 30 : options_.maxDepth;
     Ray ray = scene.camera().generateRay(fx, fy, width, height);
     MediumStack media = scene.cameraMedia();
     Spectrum L(0.0f), beta(1.0f);
@@ -69,28 +153,37 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     bool specularBounce = true;    // the last direction came from a delta distribution (or the camera)
     float prevPdf = 0;             // solid-angle density of the last sampled direction
     Vec3 prevP = ray.o;
+    MediumOrigin prevOrigin;       // valid when the last vertex was in a medium
+    bool prevInMedium = false;
 
     for (int guard = 0; guard < 100000; ++guard) {
         ++stats.rays;
         SurfaceHit hit = scene.intersect(ray);
         float tSurface = hit.valid() ? hit.t : kInfinity;
 
-        // Free-flight sampling up to the surface. Weight = T·σs/pdf_scatter or T/pdf_pass,
-        // both pdfs averaged over the colour channels (see free_flight.h).
         if (const Medium* m = scene.medium(media.current())) {
+            MediumSegment seg{ray.o, ray.d, tSurface, m};
+            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
+                L += beta * equiAngularDirect(scene, seg, media, mode, sampler, stats);
+
+            // Free-flight sampling. Weight T·σs/p_scatter or T/P_pass, both averaged over the
+            // colour channels (free_flight.h).
             Spectrum sigmaT = m->sigmaT();
             float t = sampleFreeFlight(sigmaT, sampler.next1D());
             if (t < tSurface) {
-                beta *= transmittance(sigmaT, t) * m->sigmaS / freeFlightPdfScatter(sigmaT, t);
-                if (++depth > options_.maxDepth && options_.maxDepth >= 0) break;
+                float pff = freeFlightPdfScatter(sigmaT, t);
+                beta *= transmittance(sigmaT, t) * m->sigmaS / pff;
+                if (++depth > maxDepth) break;
+                prevOrigin = MediumOrigin{seg, t, pff};
                 Vertex v;
                 v.p = ray.at(t);
                 v.wo = -ray.d;
-                v.medium = m;
-                if (nee) L += beta * sampleDirect(scene, v, media, sampler, stats);
+                v.origin = &prevOrigin;
+                if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, stats);
                 Vec3 wi = sampleHG(ray.d, m->g, sampler.next2D());  // phase/pdf = 1
                 prevPdf = hgPhase(dot(ray.d, wi), m->g);
                 prevP = v.p;
+                prevInMedium = true;
                 specularBounce = false;
                 ray = Ray{v.p, wi, kInfinity};
                 if (!isFinite(beta) || isBlack(beta)) break;
@@ -102,15 +195,25 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         if (!hit.valid()) break;
 
         {
-            // Emission reached by the camera ray or by BSDF/phase sampling.
+            // Emission reached by the camera ray or by BSDF/phase sampling (strategy B).
             Spectrum Le = scene.emission(hit, -ray.d);
             if (!isBlack(Le)) {
                 float w = 1.0f;
                 if (nee && !specularBounce) {
                     int li = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
-                    float pLight = scene.lightDistribution().pmf(li) *
-                                   lightPdf(scene, scene.lights()[li], prevP, hit.p, hit.ng);
-                    w = powerHeuristic(prevPdf, pLight);
+                    const Light& light = scene.lights()[li];
+                    float pick = scene.lightDistribution().pmf(li);
+                    float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
+                    if (prevInMedium) {
+                        float pB = prevOrigin.pFreeFlight * prevPdf;
+                        float pA = usesDensity(mode, light) ? prevOrigin.pFreeFlight * pick * pL : 0.0f;
+                        float pC = usesEquiAngular(mode, light)
+                                       ? pick * pL * equiAngularDensity(scene, light, hit.p, prevOrigin)
+                                       : 0.0f;
+                        w = powerWeight(pB, pA, pC);
+                    } else {
+                        w = powerHeuristic(prevPdf, pick * pL);
+                    }
                 }
                 L += beta * Le * w;
             }
@@ -123,7 +226,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 ray = Ray{hit.p + ray.d * rayEpsilon(hit.p), ray.d, kInfinity};
                 continue;
             }
-            if (++depth > options_.maxDepth && options_.maxDepth >= 0) break;
+            if (++depth > maxDepth) break;
 
             Spectrum baseColor = mat.baseColor;
             if (mat.baseColorTexture >= 0) baseColor *= scene.desc().textures[mat.baseColorTexture].lookup(hit.u, hit.v);
@@ -133,7 +236,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.wo = -ray.d;
             v.bsdf = &bsdf;
             v.ng = hit.ng;
-            if (nee && !bsdf.isSpecular()) L += beta * sampleDirect(scene, v, media, sampler, stats);
+            if (nee && !bsdf.isSpecular()) L += beta * sampleDirect(scene, v, media, mode, sampler, stats);
 
             float uLobe = sampler.next1D();
             BsdfSample bs;
@@ -143,6 +246,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             specularBounce = bs.specular;
             prevPdf = bs.pdf;
             prevP = hit.p;
+            prevInMedium = false;
             ray = Ray{offsetOrigin(hit.p, hit.ng, bs.wi), bs.wi, kInfinity};
             if (!isFinite(beta) || isBlack(beta)) break;
         }

@@ -30,6 +30,8 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     if (!device_) throw std::runtime_error("cannot create an Embree device");
     rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
     rtcScene_ = rtcNewScene(device_);
+    // Robust mode: watertight edges, so closed medium boundaries and furnace cavities never leak.
+    rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST);
 
     Vec3 lo(kInfinity), hi(-kInfinity);
     auto grow = [&](Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); };

@@ -1,0 +1,27 @@
+// The brume sub-commands. Each takes the arguments after its name and returns the exit code;
+// problems are thrown (UsageError → 2, SceneError and other run-time errors → 1) and
+// reported by main().
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brume/cli/args.h"
+#include "brume/scene/scene.h"
+
+namespace brume::cli {
+
+extern const char* const kRenderUsage;
+extern const char* const kRaybenchUsage;
+
+int runRender(const std::vector<std::string>& args);
+int runRaybench(const std::vector<std::string>& args);
+
+// Shared by the commands (scene_setup.cpp): loads a glTF file (SceneError on failure).
+SceneDescription loadSceneDescription(const std::string& path);
+// The image size: `requested` if set (width > 0), else 640 wide with the camera's aspect
+// ratio (640x480 when the camera has none). Throws std::runtime_error if the camera's
+// aspect ratio asks for an image beyond the limits.
+Resolution imageResolution(const Camera& camera, Resolution requested);
+
+}  // namespace brume::cli

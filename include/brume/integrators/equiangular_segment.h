@@ -1,0 +1,36 @@
+// Equi-angular sampling on a path's medium segment towards a light (Kulla & Fajardo 2012),
+// with the segment clipped to where the light can reach: a spot light's cone, a one-sided
+// emitter's front half-space. Clipping only ever removes points whose contribution is zero,
+// so the estimator stays unbiased; it just wastes no samples there.
+#pragma once
+#include "brume/sampling/equiangular.h"
+#include "brume/sampling/sampler.h"
+#include "brume/scene/light.h"
+#include "brume/scene/medium.h"
+
+namespace brume {
+
+class Scene;
+
+// The part of a ray that lies in one medium: o + t·d for t in [0, tEnd), tEnd = +∞ allowed.
+struct MediumSegment {
+    Vec3 o, d;
+    float tEnd = 0;
+    const Medium* medium = nullptr;
+};
+
+// The point equi-angular sampling aims at: a point or spot light's position, a sphere
+// light's centre, a triangle light's uniformly sampled point (light point first, as in the
+// talk). False for directional lights, which have none.
+bool equiAngularAnchor(const Scene& scene, const Light& light, Sample2 u, Vec3* anchor);
+
+// Set up equi-angular sampling on seg towards anchor, clipped for the light; false if the
+// clipped segment is empty (no point on it can receive light).
+bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg,
+                        EquiAngular* out);
+
+// Clip [t0, t1] to the points of the ray o + t·d inside a spot light's outer cone
+// (a superset at worst). False if nothing remains.
+bool clipToSpotCone(const Light& spot, Vec3 o, Vec3 d, float* t0, float* t1);
+
+}  // namespace brume

@@ -1,0 +1,90 @@
+// Image accumulation. The renderer works in passes of one sample per pixel; the film keeps,
+// per pixel, the sum of those samples in double RGB and reports their mean over the
+// completed passes.
+//
+// Splats (contributions that land on arbitrary pixels, e.g. light tracing in a later
+// bidirectional integrator) go to a separate buffer. To keep images independent of the
+// thread count, splats are never added to the film concurrently: each work unit (one tile
+// of one pass) records its splats in its own SplatList, and after the pass the renderer
+// merges the lists in tile order. The set of splats a tile makes depends only on
+// (seed, pixels of the tile, pass), so the summation order — and the image — is fixed.
+// pixel() = (sum of samples + sum of splats) / passes.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "brume/math/vec3.h"
+
+namespace brume {
+
+// Splats made by one work unit, in the order they were made. Reused from pass to pass
+// (clear() keeps the capacity), so steady-state splatting does not allocate.
+class SplatList {
+public:
+    struct Record {
+        int x, y;
+        Spectrum value;
+    };
+    // (fx, fy): film position in pixels, top-left origin, as Integrator::sample receives it.
+    // Positions outside the image are ignored; non-finite values are dropped and counted.
+    void splat(float fx, float fy, Spectrum value, int width, int height) {
+        if (!(fx >= 0 && fy >= 0 && fx < float(width) && fy < float(height))) return;
+        if (!isFinite(value)) {
+            ++nonFinite_;
+            return;
+        }
+        records_.push_back({int(fx), int(fy), value});
+    }
+    void clear() {
+        records_.clear();
+        nonFinite_ = 0;
+    }
+    const std::vector<Record>& records() const { return records_; }
+    uint64_t nonFinite() const { return nonFinite_; }
+
+private:
+    std::vector<Record> records_;
+    uint64_t nonFinite_ = 0;
+};
+
+class Film {
+public:
+    Film(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    // Number of completed passes (the divisor of pixel()).
+    int passes() const { return passes_; }
+
+    // Adds one sample to pixel (x, y). Distinct pixels may be added from different threads
+    // at the same time; one pixel must not.
+    void add(int x, int y, Spectrum value) {
+        double* p = &sum_[3 * (size_t(y) * size_t(width_) + size_t(x))];
+        p[0] += value.x;
+        p[1] += value.y;
+        p[2] += value.z;
+    }
+    // Adds one splat at pixel (x, y) (single-threaded; see the file comment).
+    void splat(int x, int y, Spectrum value);
+    // Adds a tile's splats, in their recorded order (single-threaded).
+    void mergeSplats(const SplatList& splats);
+    bool hasSplats() const { return !splat_.empty(); }
+
+    // Marks the end of a pass: every pixel has received its sample (or had it dropped).
+    void completePass() { ++passes_; }
+
+    // Mean over the completed passes (black before the first one).
+    Spectrum pixel(int x, int y) const;
+    // The whole image as float RGB, row-major, top row first (what writeImage takes).
+    std::vector<float> rgb() const;
+    // Back to black, zero passes.
+    void clear();
+
+private:
+    int width_, height_;
+    int passes_ = 0;
+    std::vector<double> sum_;    // 3 per pixel
+    std::vector<double> splat_;  // 3 per pixel; allocated on the first splat
+};
+
+}  // namespace brume

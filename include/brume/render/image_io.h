@@ -1,0 +1,32 @@
+// Image files. The extension picks the format:
+//   .exr  32-bit float linear RGB (OpenImageIO)
+//   .pfm  32-bit float linear RGB, portable float map (written and read here)
+//   .png  8-bit sRGB-encoded, clamped to [0, 1] (OpenImageIO)
+// Pixels are float RGB, row-major, top row first, 3·w·h values.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace brume {
+
+enum class ImageFormat { Exr, Pfm, Png };
+
+// The format for a file name, by its (case-insensitive) extension; throws
+// std::invalid_argument naming the path for anything else.
+ImageFormat imageFormatFor(const std::string& path);
+
+// Checks, before any work is done, that `path` can be written: the extension is known
+// (std::invalid_argument otherwise) and a file can be created beside it (std::runtime_error
+// naming the path and the reason otherwise). Leaves nothing behind.
+void checkImageWritable(const std::string& path);
+
+// Writes to a temporary file beside `path` ("<stem>.tmp-<pid><ext>") and renames it into
+// place, so a half-written image never appears under `path`. Throws std::runtime_error
+// ("<path>: <problem>") on failure, after removing the temporary file.
+void writeImage(const std::string& path, int width, int height, const std::vector<float>& rgb);
+
+// Reads an .exr, .pfm or .png file as linear float RGB (PNG is decoded from sRGB; one channel
+// is replicated to three, alpha is dropped). Throws std::runtime_error on failure.
+std::vector<float> readImage(const std::string& path, int* width, int* height);
+
+}  // namespace brume

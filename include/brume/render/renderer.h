@@ -1,0 +1,58 @@
+// Renders an image in passes of one sample per pixel. Within a pass the image is cut into
+// 16×16 tiles that persistent worker threads take from an atomic counter; all workers meet
+// at a barrier at the end of each pass. Every pixel sample uses its own
+// Sampler(seed, y·width + x, pass): the jitter inside the pixel first (box filter), then
+// whatever the integrator draws. No sample depends on which thread takes it, each pixel is
+// summed in pass order and splats are merged in tile order, so the same seed gives the same
+// image for any thread count.
+#pragma once
+#include <atomic>
+#include <cstdint>
+
+#include "brume/integrators/integrator.h"
+#include "brume/render/film.h"
+
+namespace brume {
+
+class Scene;
+
+struct RenderOptions {
+    int width = 0, height = 0;  // must match the film
+    int spp = 16;               // passes to render (ignored when timeBudget > 0)
+    double timeBudget = 0;      // seconds; > 0: whole passes until it is spent (at least one)
+    uint64_t seed = 0;
+    int threads = 0;            // 0 = std::thread::hardware_concurrency()
+    bool progress = false;      // progress bar on stderr
+};
+
+struct RenderStats {
+    double seconds = 0;      // wall-clock time of the passes
+    int passes = 0;          // passes rendered by this call (= spp with a time budget)
+    uint64_t samples = 0;    // pixel samples taken, non-finite ones included
+    uint64_t rays = 0;       // as counted by the integrator (PathStats::rays)
+    uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
+};
+
+// An integrator that, besides the radiance through its own film position, deposits
+// contributions at other pixels (light tracing, the t = 1 strategies of bidirectional path
+// tracing). render() recognises it and passes the SplatList of the tile being rendered;
+// splats end up in the film divided by the number of passes, like ordinary samples.
+class SplattingIntegrator : public Integrator {
+public:
+    virtual Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
+                                      Sampler& sampler, PathStats& stats, SplatList& splats) const = 0;
+    // Outside render() there is nowhere for splats to go: they are made and thrown away.
+    Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
+                    PathStats& stats) const override;
+};
+
+// Adds passes to `film` (pass indices continue from film.passes(), so calling render() again
+// on the same film refines it). Samples that are not finite are dropped (they count as black)
+// and counted. `cancel`, if given, is checked between passes: once it is true no new pass
+// starts (the first pass always runs). Throws std::invalid_argument for bad options (film
+// size mismatch, spp < 1 without a time budget, negative threads) and rethrows anything an
+// integrator throws.
+RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+                   const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace brume

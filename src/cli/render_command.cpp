@@ -1,0 +1,167 @@
+// brume render SCENE -o OUT [options]: everything is checked before the first sample, the
+// image is written in one piece at the end, and a summary line goes to stdout.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+
+#include "brume/cli/commands.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/render/film.h"
+#include "brume/render/image_io.h"
+#include "brume/render/renderer.h"
+
+namespace brume::cli {
+
+const char* const kRenderUsage =
+    "usage: brume render SCENE -o OUT [options]\n"
+    "\n"
+    "Renders a glTF scene and writes OUT (.exr: float linear RGB, .pfm: float linear RGB,\n"
+    ".png: 8-bit sRGB).\n"
+    "\n"
+    "options:\n"
+    "  -o, --output OUT     output image (required)\n"
+    "  --integrator NAME    pt (volumetric path tracer; the default)\n"
+    "  --spp N              samples per pixel (default 16)\n"
+    "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
+    "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
+    "  --no-nee             no next-event estimation (BSDF/phase sampling only)\n"
+    "  --res WxH            image size (default 640 wide, height from the camera's aspect\n"
+    "                       ratio, 640x480 without one)\n"
+    "  --seed N             random seed (default 0); the same seed gives the same image\n"
+    "                       for any thread count\n"
+    "  --threads N          worker threads (default: all hardware threads)\n"
+    "  -h, --help           this text\n"
+    "\n"
+    "Ctrl-C stops after the current pass and writes the image so far (exit code 130).\n";
+
+namespace {
+
+struct RenderArgs {
+    std::string scene;
+    std::string output;
+    std::string integrator = "pt";
+    int spp = 16;
+    bool sppGiven = false;
+    double seconds = 0;
+    int maxDepth = -1;
+    bool nee = true;
+    Resolution res;  // width 0: from the camera
+    uint64_t seed = 0;
+    int threads = 0;
+    bool help = false;
+};
+
+RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
+    RenderArgs a;
+    ArgScanner args(argv);
+    while (args.next()) {
+        const std::string& name = args.current();
+        if (!args.isOption()) {
+            if (!a.scene.empty()) throw UsageError("more than one scene given ('" + a.scene + "', '" + name + "')");
+            a.scene = name;
+        } else if (name == "-h" || name == "--help") {
+            a.help = true;
+        } else if (name == "-o" || name == "--output") {
+            a.output = args.value();
+            if (a.output.empty()) throw UsageError(name + ": empty file name");
+        } else if (name == "--integrator") {
+            a.integrator = args.value();
+        } else if (name == "--spp") {
+            a.spp = int(parseInteger(name, args.value(), 1, 1 << 24));
+            a.sppGiven = true;
+        } else if (name == "--time") {
+            a.seconds = parsePositiveSeconds(name, args.value(), 1e7);
+        } else if (name == "--max-depth") {
+            a.maxDepth = int(parseInteger(name, args.value(), -1, 1000000));
+        } else if (name == "--no-nee") {
+            args.noValue();
+            a.nee = false;
+        } else if (name == "--res") {
+            a.res = parseResolution(name, args.value());
+        } else if (name == "--seed") {
+            a.seed = parseUnsigned64(name, args.value());
+        } else if (name == "--threads") {
+            a.threads = int(parseInteger(name, args.value(), 1, 1024));
+        } else {
+            args.unknown();
+        }
+    }
+    if (a.help) return a;
+    if (a.scene.empty()) throw UsageError("render: no scene file given");
+    if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
+    if (a.integrator != "pt") throw UsageError("unknown integrator '" + a.integrator + "' (available: pt)");
+    if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
+    return a;
+}
+
+std::atomic<bool> gInterrupted{false};
+
+extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+
+// The first Ctrl-C asks the renderer to stop after the current pass; SA_RESETHAND makes a
+// second one kill the process as usual.
+void catchInterrupt() {
+    struct sigaction sa {};
+    sa.sa_handler = onInterrupt;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, nullptr);
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& argv) {
+    RenderArgs a = parseRenderArgs(argv);
+    if (a.help) {
+        std::fputs(kRenderUsage, stdout);
+        return kExitOk;
+    }
+    try {
+        imageFormatFor(a.output);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+    }
+    checkImageWritable(a.output);  // std::runtime_error: exit code 1
+
+    SceneDescription desc = loadSceneDescription(a.scene);
+    Resolution res = imageResolution(desc.camera, a.res);
+    Scene scene(std::move(desc));
+
+    PathTracerOptions ptOptions;
+    ptOptions.maxDepth = a.maxDepth;
+    ptOptions.nextEventEstimation = a.nee;
+    PathTracer integrator(ptOptions);
+
+    RenderOptions options;
+    options.width = res.width;
+    options.height = res.height;
+    options.spp = a.spp;
+    options.timeBudget = a.seconds;
+    options.seed = a.seed;
+    options.threads = a.threads;
+    options.progress = ::isatty(2) != 0;
+
+    Film film(res.width, res.height);
+    catchInterrupt();
+    RenderStats stats = render(scene, integrator, options, film, &gInterrupted);
+    signal(SIGINT, SIG_DFL);
+
+    writeImage(a.output, res.width, res.height, film.rgb());
+
+    double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
+    std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite\n", a.output.c_str(),
+                res.width, res.height, stats.passes, stats.seconds, double(stats.samples) / seconds,
+                double(stats.rays) / seconds, static_cast<unsigned long long>(stats.nonFinite));
+    std::fflush(stdout);
+    if (gInterrupted.load()) {
+        std::fprintf(stderr, "brume: interrupted after %d passes\n", stats.passes);
+        return kExitInterrupted;
+    }
+    return kExitOk;
+}
+
+}  // namespace brume::cli

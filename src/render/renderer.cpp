@@ -1,0 +1,261 @@
+#include "brume/render/renderer.h"
+
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace brume {
+
+Spectrum SplattingIntegrator::sample(const Scene& scene, float fx, float fy, int width, int height,
+                                     Sampler& sampler, PathStats& stats) const {
+    thread_local SplatList discarded;
+    discarded.clear();
+    return sampleWithSplats(scene, fx, fy, width, height, sampler, stats, discarded);
+}
+
+namespace {
+
+constexpr int kTileSize = 16;
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Per-worker counters on their own cache line.
+struct alignas(64) WorkerCounters {
+    uint64_t samples = 0;
+    uint64_t nonFinite = 0;
+    PathStats path;
+};
+
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+    void show(double fraction, int passesDone, const RenderOptions& options, double seconds) {
+        if (!enabled_) return;
+        fraction = std::clamp(fraction, 0.0, 1.0);
+        constexpr int kWidth = 30;
+        int filled = int(fraction * kWidth);
+        char bar[kWidth + 1];
+        for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '.';
+        bar[kWidth] = '\0';
+        if (options.timeBudget > 0)
+            std::fprintf(stderr, "\r[%s] %3d%%  %d passes  %.1f / %.1f s ", bar, int(fraction * 100), passesDone,
+                         seconds, options.timeBudget);
+        else
+            std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %.1f s ", bar, int(fraction * 100), passesDone,
+                         options.spp, seconds);
+        std::fflush(stderr);
+        shown_ = true;
+    }
+    void finish() {
+        if (enabled_ && shown_) std::fputc('\n', stderr);
+    }
+
+private:
+    bool enabled_;
+    bool shown_ = false;
+};
+
+// The worker pool for one render() call.
+class PassRunner {
+public:
+    PassRunner(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+               int threadCount)
+        : scene_(scene),
+          integrator_(integrator),
+          splatter_(dynamic_cast<const SplattingIntegrator*>(&integrator)),
+          options_(options),
+          film_(film),
+          tilesX_((options.width + kTileSize - 1) / kTileSize),
+          tilesY_((options.height + kTileSize - 1) / kTileSize),
+          counters_(threadCount) {
+        if (splatter_) tileSplats_.resize(size_t(tileCount()));
+        threads_.reserve(threadCount);
+        try {
+            for (int i = 0; i < threadCount; ++i) threads_.emplace_back([this, i] { workerLoop(i); });
+        } catch (...) {
+            stop();
+            throw;
+        }
+    }
+    ~PassRunner() { stop(); }
+
+    int tileCount() const { return tilesX_ * tilesY_; }
+    int tilesDone() const { return tilesDone_.load(std::memory_order_relaxed); }
+
+    // Starts pass `pass` on all workers and returns at once.
+    void startPass(int pass) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        pass_ = pass;
+        nextTile_.store(0);
+        tilesDone_.store(0);
+        running_ = int(threads_.size());
+        ++generation_;
+        startCv_.notify_all();
+    }
+    // Waits up to `timeout` for the pass to finish; true once it has.
+    bool waitPass(std::chrono::milliseconds timeout) {
+        std::unique_lock<std::mutex> lock(mutex_);
+        return doneCv_.wait_for(lock, timeout, [this] { return running_ == 0; });
+    }
+    // After a finished pass: merges splats in tile order, rethrows a worker's exception.
+    void finishPass(uint64_t* splatNonFinite) {
+        if (error_) std::rethrow_exception(error_);
+        for (SplatList& list : tileSplats_) {
+            film_.mergeSplats(list);
+            *splatNonFinite += list.nonFinite();
+            list.clear();
+        }
+    }
+    const std::vector<WorkerCounters>& counters() const { return counters_; }
+
+private:
+    void stop() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            quit_ = true;
+            startCv_.notify_all();
+        }
+        for (std::thread& t : threads_)
+            if (t.joinable()) t.join();
+    }
+
+    void workerLoop(int index) {
+        // Embree asks for these in every thread that traces rays.
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+        uint64_t seen = 0;
+        for (;;) {
+            int pass;
+            {
+                std::unique_lock<std::mutex> lock(mutex_);
+                startCv_.wait(lock, [&] { return quit_ || generation_ != seen; });
+                if (quit_) return;
+                seen = generation_;
+                pass = pass_;
+            }
+            try {
+                for (int t = nextTile_.fetch_add(1); t < tileCount(); t = nextTile_.fetch_add(1)) {
+                    renderTile(t, pass, counters_[index]);
+                    tilesDone_.fetch_add(1, std::memory_order_relaxed);
+                }
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(mutex_);
+                if (!error_) error_ = std::current_exception();
+                nextTile_.store(tileCount());  // the others stop after their current tile
+            }
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (--running_ == 0) doneCv_.notify_all();
+        }
+    }
+
+    void renderTile(int tile, int pass, WorkerCounters& counters) {
+        const int width = options_.width, height = options_.height;
+        const int x0 = (tile % tilesX_) * kTileSize, y0 = (tile / tilesX_) * kTileSize;
+        const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
+                Sample2 jitter = sampler.next2D();
+                float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
+                Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
+                                                                     counters.path, tileSplats_[tile])
+                                       : integrator_.sample(scene_, fx, fy, width, height, sampler, counters.path);
+                ++counters.samples;
+                if (isFinite(L)) film_.add(x, y, L);
+                else ++counters.nonFinite;
+            }
+    }
+
+    const Scene& scene_;
+    const Integrator& integrator_;
+    const SplattingIntegrator* splatter_;
+    const RenderOptions& options_;
+    Film& film_;
+    const int tilesX_, tilesY_;
+    std::vector<WorkerCounters> counters_;
+    std::vector<SplatList> tileSplats_;  // one per tile, merged in tile order
+    std::vector<std::thread> threads_;
+
+    std::mutex mutex_;
+    std::condition_variable startCv_, doneCv_;
+    uint64_t generation_ = 0;  // bumped for every pass
+    int pass_ = 0;
+    int running_ = 0;          // workers still in the current pass
+    bool quit_ = false;
+    std::exception_ptr error_;
+    std::atomic<int> nextTile_{0};
+    std::atomic<int> tilesDone_{0};
+};
+
+}  // namespace
+
+RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+                   const std::atomic<bool>* cancel) {
+    if (options.width != film.width() || options.height != film.height())
+        throw std::invalid_argument("render size " + std::to_string(options.width) + "x" +
+                                    std::to_string(options.height) + " does not match the film (" +
+                                    std::to_string(film.width()) + "x" + std::to_string(film.height()) + ")");
+    if (options.timeBudget <= 0 && options.spp < 1)
+        throw std::invalid_argument("spp must be at least 1, got " + std::to_string(options.spp));
+    if (!(options.timeBudget >= 0) || options.timeBudget > 1e9)
+        throw std::invalid_argument("time budget must be a non-negative number of seconds");
+    if (options.threads < 0) throw std::invalid_argument("thread count must not be negative");
+
+    // More workers than tiles would only wait at the barrier.
+    const int tiles = ((options.width + kTileSize - 1) / kTileSize) * ((options.height + kTileSize - 1) / kTileSize);
+    int threadCount = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
+    threadCount = std::clamp(threadCount, 1, tiles);
+
+    RenderStats stats;
+    const Clock::time_point start = Clock::now();
+    ProgressBar progress(options.progress);
+    uint64_t splatNonFinite = 0;
+    {
+        PassRunner runner(scene, integrator, options, film, threadCount);
+        for (;;) {
+            if (stats.passes > 0) {
+                if (options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget : stats.passes >= options.spp)
+                    break;
+                if (cancel && cancel->load()) break;
+            }
+            runner.startPass(film.passes());
+            while (!runner.waitPass(std::chrono::milliseconds(200))) {
+                double t = secondsSince(start);
+                double fraction = options.timeBudget > 0
+                                      ? t / options.timeBudget
+                                      : (stats.passes + double(runner.tilesDone()) / runner.tileCount()) / options.spp;
+                progress.show(fraction, stats.passes, options, t);
+            }
+            runner.finishPass(&splatNonFinite);
+            film.completePass();
+            ++stats.passes;
+            double t = secondsSince(start);
+            progress.show(options.timeBudget > 0 ? t / options.timeBudget : double(stats.passes) / options.spp,
+                          stats.passes, options, t);
+        }
+        for (const WorkerCounters& c : runner.counters()) {
+            stats.samples += c.samples;
+            stats.nonFinite += c.nonFinite;
+            stats.rays += c.path.rays;
+        }
+    }
+    stats.nonFinite += splatNonFinite;
+    stats.seconds = secondsSince(start);
+    progress.finish();
+    return stats;
+}
+
+}  // namespace brume

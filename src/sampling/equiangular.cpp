@@ -1,0 +1,42 @@
+#include "brume/sampling/equiangular.h"
+
+#include <cmath>
+
+namespace brume {
+
+EquiAngular makeEquiAngular(Vec3 o, Vec3 d, Vec3 c, float a, float b) {
+    EquiAngular ea;
+    double ox = double(c.x) - o.x, oy = double(c.y) - o.y, oz = double(c.z) - o.z;
+    ea.delta = ox * d.x + oy * d.y + oz * d.z;
+    double px = ox - ea.delta * d.x, py = oy - ea.delta * d.y, pz = oz - ea.delta * d.z;
+    double dist = std::sqrt(ox * ox + oy * oy + oz * oz);
+    // A light exactly on the ray (D = 0) has a non-integrable 1/(t−Δ)² peak; a floor on D
+    // relative to the distance keeps the density finite and positive everywhere.
+    ea.D = std::max(std::sqrt(px * px + py * py + pz * pz), 1e-6 * std::max(1.0, dist));
+    ea.a = a;
+    ea.b = b;
+    ea.thetaA = std::atan((double(a) - ea.delta) / ea.D);
+    ea.thetaB = std::isinf(b) ? 0.5 * M_PI : std::atan((double(b) - ea.delta) / ea.D);
+    ea.uniform = !(ea.thetaB - ea.thetaA > 1e-7) && !std::isinf(b);
+    return ea;
+}
+
+float sampleEquiAngular(const EquiAngular& ea, float u) {
+    double t;
+    if (ea.uniform) {
+        t = ea.a + double(u) * (ea.b - ea.a);
+    } else {
+        double theta = (1.0 - u) * ea.thetaA + double(u) * ea.thetaB;
+        t = ea.delta + ea.D * std::tan(theta);
+    }
+    return float(std::min(std::max(t, ea.a), ea.b));
+}
+
+float equiAngularPdf(const EquiAngular& ea, float t) {
+    if (t < ea.a || t > ea.b) return 0.0f;
+    if (ea.uniform) return float(1.0 / (ea.b - ea.a));
+    double x = double(t) - ea.delta;
+    return float(ea.D / ((ea.thetaB - ea.thetaA) * (ea.D * ea.D + x * x)));
+}
+
+}  // namespace brume

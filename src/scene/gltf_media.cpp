@@ -1,0 +1,80 @@
+// glTF loader: the BRUME_media extension (homogeneous media, the ambient medium, and the
+// medium a closed mesh encloses).
+#include <cmath>
+#include <limits>
+
+#include "brume/scene/gltf_detail.h"
+
+namespace brume::gltf {
+
+namespace {
+
+float checkedCoefficient(const Source& src, double d, const std::string& field) {
+    if (!std::isfinite(d)) src.fail(field, "non-finite coefficient " + num(d));
+    if (d < 0) src.fail(field, "negative coefficient " + num(d));
+    if (d > double(std::numeric_limits<float>::max())) src.fail(field, "coefficient " + num(d) + " is too large");
+    return float(d);
+}
+
+// A coefficient in 1/m: a number (grey) or [r, g, b]; absent = 0.
+Spectrum coefficient(const Source& src, const tinygltf::Value* v, const std::string& field) {
+    if (!v) return Spectrum(0.0f);
+    if (v->IsNumber()) return Spectrum(checkedCoefficient(src, v->GetNumberAsDouble(), field));
+    if (!v->IsArray() || v->ArrayLen() != 3) src.fail(field, "expected a number or an array of 3 numbers [1/m]");
+    Spectrum s;
+    for (int c = 0; c < 3; ++c) {
+        const tinygltf::Value& e = v->Get(c);
+        if (!e.IsNumber()) src.fail(field, "expected a number or an array of 3 numbers [1/m]");
+        s[c] = checkedCoefficient(src, e.GetNumberAsDouble(), field);
+    }
+    return s;
+}
+
+Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field) {
+    if (!m.IsObject()) src.fail(field, "expected an object");
+    Medium medium;
+    if (const tinygltf::Value* name = member(m, "name")) {
+        if (!name->IsString()) src.fail(field + ".name", "expected a string");
+        medium.name = name->Get<std::string>();
+    }
+    medium.sigmaS = coefficient(src, member(m, "scattering"), field + ".scattering");
+    medium.sigmaA = coefficient(src, member(m, "absorption"), field + ".absorption");
+    if (const tinygltf::Value* g = member(m, "anisotropy")) {
+        if (!g->IsNumber()) src.fail(field + ".anisotropy", "expected a number");
+        double d = g->GetNumberAsDouble();
+        if (!std::isfinite(d)) src.fail(field + ".anisotropy", "non-finite anisotropy " + num(d));
+        if (std::abs(d) >= 1) src.fail(field + ".anisotropy", "anisotropy g = " + num(d) + " must satisfy |g| < 1");
+        medium.g = float(d);
+    }
+    return medium;
+}
+
+}  // namespace
+
+void parseMedia(const Source& src, const tinygltf::Value& brumeMedia, SceneDescription& desc) {
+    const std::string base = "extensions.BRUME_media";
+    if (!brumeMedia.IsObject()) src.fail(base, "expected an object");
+    if (const tinygltf::Value* media = member(brumeMedia, "media")) {
+        if (!media->IsArray()) src.fail(base + ".media", "expected an array");
+        for (size_t i = 0; i < media->ArrayLen(); ++i)
+            desc.media.push_back(parseMedium(src, media->Get(int(i)), at(base + ".media", i)));
+    }
+    desc.ambientMedium = -1;
+    if (const tinygltf::Value* ambient = member(brumeMedia, "ambient")) {
+        const std::string field = base + ".ambient";
+        desc.ambientMedium = checkIndex(src, integer(src, *ambient, field), desc.media.size(), field, "medium");
+    }
+}
+
+int interiorMedium(const Source& src, const tinygltf::Mesh& mesh, int meshIndex, int mediaCount) {
+    auto it = mesh.extensions.find("BRUME_media");
+    if (it == mesh.extensions.end()) return -1;
+    const std::string field = at("meshes", size_t(meshIndex)) + ".extensions.BRUME_media";
+    if (!it->second.IsObject()) src.fail(field, "expected an object");
+    const tinygltf::Value* interior = member(it->second, "interior");
+    if (!interior) return -1;
+    return checkIndex(src, integer(src, *interior, field + ".interior"), size_t(mediaCount), field + ".interior",
+                      "medium");
+}
+
+}  // namespace brume::gltf

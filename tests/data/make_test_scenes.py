@@ -1,0 +1,141 @@
+#!/usr/bin/python3
+"""Writes the glTF test scenes in tests/data/ (oracles for the renderer's tests).
+
+Run: /usr/bin/python3 tests/data/make_test_scenes.py
+The outputs are deterministic; tests/data/README.md says what each file is for. The geometry
+and light parameters here are duplicated in the C++ tests (e.g. tests/test_pt_oracles.cpp):
+change both together.
+"""
+
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "scenes"))
+
+sys.dont_write_bytecode = True  # no __pycache__ next to the scenes
+import gltfgen as g  # noqa: E402
+
+# Furnace sphere: radius 2 about the origin, 48 segments around Y x 24 rings (2208 triangles).
+FURNACE_RADIUS = 2.0
+FURNACE_SEGMENTS = 48
+FURNACE_RINGS = 24
+
+# Single-scattering scenes
+SINGLE_YFOV = 0.6
+SINGLE_SCATTERING = 0.2
+SINGLE_ABSORPTION = 0.05
+SINGLE_G = 0.3
+POINT_INTENSITY = 10.0
+
+
+def out(name):
+    return os.path.join(HERE, name)
+
+
+def camera_at_origin(b, yfov):
+    """Camera at the origin looking down -Z (identity rotation), square aspect."""
+    b.add_camera("camera", yfov=yfov, aspect_ratio=1.0, translation=(0.0, 0.0, 0.0))
+
+
+def inward_sphere(radius):
+    """The furnace wall: closed UV sphere whose front (CCW) faces point at the centre.
+    No NORMAL attribute: the renderer uses the exact geometric (flat) normals."""
+    pos, _normals, _uvs, idx = g.uv_sphere(radius, FURNACE_SEGMENTS, FURNACE_RINGS, inward=True)
+    # Checks: closed and consistently wound, every triangle's front normal points inward,
+    # every vertex on the sphere.
+    g.check_closed(idx)
+    for t in range(len(idx) // 3):
+        n = g.triangle_normal(pos, idx, t)
+        centroid = g.scale(g.add(g.add(pos[idx[3 * t]], pos[idx[3 * t + 1]]), pos[idx[3 * t + 2]]), 1.0 / 3.0)
+        assert g.dot(n, centroid) < 0, "triangle %d faces outward" % t
+    vol = g.signed_volume(pos, idx)
+    ball = 4.0 / 3.0 * math.pi * radius ** 3
+    assert -ball < vol < -0.95 * ball, "signed volume %g: not an inward sphere" % vol
+    for p in pos:
+        assert abs(math.sqrt(g.dot(p, p)) - radius) < 1e-12
+    return pos, idx
+
+
+def furnace(name, ambient, wall_albedo, wall_emission):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 1.0)
+    fog = b.add_medium("fog", scattering=1.0, absorption=0.0, anisotropy=0.5)
+    wall = b.add_material("wall", base_color=(wall_albedo,) * 3, metallic=0.0, roughness=1.0,
+                          emissive=(wall_emission,) * 3)
+    pos, idx = inward_sphere(FURNACE_RADIUS)
+    if ambient:
+        b.set_ambient(fog)
+        mesh = b.add_mesh("wall", pos, idx, material=wall)
+    else:
+        mesh = b.add_mesh("wall", pos, idx, material=wall, interior=fog)
+    b.add_node("wall", mesh=mesh)
+    return b.write(out(name))
+
+
+def single(name, light_pos, scattering=SINGLE_SCATTERING, absorption=SINGLE_ABSORPTION,
+           anisotropy=SINGLE_G, radius=None):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    b.set_ambient(b.add_medium("fog", scattering, absorption, anisotropy))
+    b.add_light("light", "point", (1.0, 1.0, 1.0), POINT_INTENSITY, translation=light_pos, radius=radius)
+    return b.write(out(name))
+
+
+def single_spot(name):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    # -90 degrees about +X maps local -Z onto world -Y: straight down.
+    down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
+    d = g.quat_rotate(down, (0.0, 0.0, -1.0))
+    assert abs(d[0]) < 1e-12 and abs(d[1] + 1.0) < 1e-12 and abs(d[2]) < 1e-12
+    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
+                inner_cone=0.2, outer_cone=0.4)
+    return b.write(out(name))
+
+
+def empty(name):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 0.8)
+    return b.write(out(name))
+
+
+def quad_light_fog(name):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 1.0)  # the quad (seen 0.28-0.38 rad above the axis) is in view
+    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                             emissive=(5.0, 5.0, 5.0))
+    # 1 m x 1 m at y = 1, centred on (0, 1, -3); u x v = (0.5, 0, 0) x (0, 0, 0.5) points to -Y.
+    pos, nrm, uvs, idx = g.quad((0.0, 1.0, -3.0), (0.5, 0.0, 0.0), (0.0, 0.0, 0.5))
+    for t in range(2):
+        n = g.normalize(g.triangle_normal(pos, idx, t))
+        assert abs(n[0]) < 1e-12 and abs(n[1] + 1.0) < 1e-12 and abs(n[2]) < 1e-12
+    assert all(abs(p[1] - 1.0) == 0 for p in pos)
+    b.add_node("quad_light", mesh=b.add_mesh("quad_light", pos, idx, normals=nrm, material=emitter))
+    return b.write(out(name))
+
+
+def main():
+    written = [
+        furnace("furnace_ambient.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0),
+        furnace("furnace_bounded.gltf", ambient=False, wall_albedo=0.0, wall_emission=1.0),
+        furnace("furnace_albedo.gltf", ambient=True, wall_albedo=0.5, wall_emission=0.5),
+        single("single_near.gltf", (0.3, 0.2, -3.0)),
+        single("single_behind.gltf", (0.5, 0.0, 2.0)),
+        single("single_side.gltf", (3.0, 1.0, -2.0)),
+        single("single_chromatic.gltf", (0.3, 0.2, -3.0), scattering=(0.3, 0.2, 0.1),
+               absorption=(0.02, 0.05, 0.1), anisotropy=-0.4),
+        single_spot("single_spot.gltf"),
+        empty("empty.gltf"),
+        quad_light_fog("quad_light_fog.gltf"),
+        single("sphere_light_fog.gltf", (0.3, 0.2, -3.0), radius=0.25),
+    ]
+    for path in written:
+        print(os.path.relpath(path, os.getcwd()))
+
+
+if __name__ == "__main__":
+    main()

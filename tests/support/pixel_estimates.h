@@ -1,0 +1,61 @@
+// Per-pixel Monte Carlo estimates with standard errors, for oracle tests. Samples are taken
+// at pixel centres (no film jitter), so a pixel's expected value is the radiance along one
+// known ray and can be compared with a quadrature of that ray alone.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brume/integrators/integrator.h"
+#include "brume/scene/gltf_loader.h"
+#include "brume/scene/scene.h"
+
+namespace brume::test {
+
+struct PixelEstimate {
+    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+    long n = 0;
+    double mean(int c) const { return sum[c] / double(n); }
+    // Standard error of the mean.
+    double stderror(int c) const {
+        double m = mean(c);
+        double var = (sum2[c] / double(n) - m * m) * double(n) / double(n - 1);
+        return std::sqrt(std::max(0.0, var) / double(n));
+    }
+};
+
+inline std::unique_ptr<Scene> loadTestScene(const std::string& name) {
+    return std::make_unique<Scene>(loadGltf(std::string(BRUME_TEST_DATA) + "/" + name));
+}
+
+inline std::vector<PixelEstimate> estimatePixels(const Scene& scene, const Integrator& integrator, int width,
+                                                 int height, int spp, uint64_t seed) {
+    std::vector<PixelEstimate> px(size_t(width) * height);
+    PathStats stats;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            PixelEstimate& e = px[size_t(y) * width + x];
+            for (int s = 0; s < spp; ++s) {
+                Sampler sampler(seed, uint64_t(y) * width + x, uint64_t(s));
+                Spectrum L = integrator.sample(scene, x + 0.5f, y + 0.5f, width, height, sampler, stats);
+                for (int c = 0; c < 3; ++c) {
+                    e.sum[c] += L[c];
+                    e.sum2[c] += double(L[c]) * L[c];
+                }
+                ++e.n;
+            }
+        }
+    return px;
+}
+
+// Direction of the ray through pixel centre (x, y) of a camera at the origin looking down
+// −Z with +Y up, written out independently of brume's Camera.
+inline Vec3 referenceCameraDirection(int x, int y, int width, int height, double yfov) {
+    double tanY = std::tan(0.5 * yfov), tanX = tanY * width / height;
+    double sx = (2.0 * (x + 0.5) / width - 1.0) * tanX;
+    double sy = (1.0 - 2.0 * (y + 0.5) / height) * tanY;
+    double len = std::sqrt(sx * sx + sy * sy + 1.0);
+    return Vec3(float(sx / len), float(sy / len), float(-1.0 / len));
+}
+
+}  // namespace brume::test

@@ -1,0 +1,276 @@
+// The brume executable, run as a user would: exit codes and one-line errors for bad command
+// lines, files and scenes, never a partial or temporary file left behind, the three output
+// formats, identical images for 1 and 2 threads, seeds. Also image_io directly.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "brume/render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory, removed with everything in it at the end of the test.
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<int> counter{0};
+        path = fs::temp_directory_path() /
+               ("brume-cli-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    std::string operator/(const std::string& name) const { return (path / name).string(); }
+    std::vector<std::string> files() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+        return names;
+    }
+};
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+struct Result {
+    int code = -1;
+    std::string out, err;
+};
+
+// Runs `brume ARGS` with stdout and stderr captured (in a directory of their own, so the
+// output directories of the tests hold only what brume writes).
+Result runBrume(const std::string& args) {
+    TempDir capture;
+    std::string command = quote(BRUME_EXE) + " " + args + " >" + quote(capture / "out") + " 2>" +
+                          quote(capture / "err") + " </dev/null";
+    int status = std::system(command.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readFile(capture / "out");
+    r.err = readFile(capture / "err");
+    return r;
+}
+
+std::string data(const std::string& name) { return quote(std::string(BRUME_TEST_DATA) + "/" + name); }
+
+// stderr holds exactly one line, "brume: error: ...".
+void checkOneLineError(const Result& r) {
+    INFO("stderr: " << r.err);
+    CHECK(r.err.rfind("brume: error: ", 0) == 0);
+    REQUIRE(!r.err.empty());
+    CHECK(r.err.back() == '\n');
+    CHECK(r.err.find('\n') == r.err.size() - 1);
+}
+
+std::vector<float> readBack(const std::string& path, int w, int h) {
+    int rw = 0, rh = 0;
+    std::vector<float> rgb = brume::readImage(path, &rw, &rh);
+    CHECK(rw == w);
+    CHECK(rh == h);
+    CHECK(rgb.size() == size_t(3 * w * h));
+    return rgb;
+}
+
+const char* const kTiny = " --res 16x12 --spp 4";
+
+}  // namespace
+
+TEST_CASE("cli: help", "[cli]") {
+    Result r = runBrume("--help");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("render") != std::string::npos);
+    r = runBrume("render --help");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("--spp") != std::string::npos);
+    CHECK(r.out.find("--no-nee") != std::string::npos);
+    r = runBrume("raybench --help");
+    CHECK(r.code == 0);
+    r = runBrume("");
+    CHECK(r.code == 2);
+    r = runBrume("paint x");
+    CHECK(r.code == 2);
+    checkOneLineError(r);
+}
+
+TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
+    TempDir dir;
+    const std::string out = quote(dir / "out.exr");
+    struct Case {
+        std::string args, mention;
+    } cases[] = {
+        {data("empty.gltf") + " -o " + out + " --bogus", "--bogus"},
+        {data("empty.gltf") + " -o " + out + " --spp 0", "--spp"},
+        {data("empty.gltf") + " -o " + out + " --spp -3", "--spp"},
+        {data("empty.gltf") + " -o " + out + " --spp 12abc", "--spp"},
+        {data("empty.gltf") + " -o " + out + " --res 100000x100000", "--res"},
+        {data("empty.gltf") + " -o " + out + " --res 16384x16384", "2^27"},
+        {data("empty.gltf") + " -o " + out + " --res 0x10", "--res"},
+        {data("empty.gltf") + " -o " + out + " --res 16", "--res"},
+        {data("empty.gltf") + " -o " + out + " --threads 0", "--threads"},
+        {data("empty.gltf") + " -o " + out + " --time -1", "--time"},
+        {data("empty.gltf") + " -o " + out + " --time 1 --spp 4", "--time"},
+        {data("empty.gltf") + " -o " + out + " --seed x", "--seed"},
+        {data("empty.gltf") + " -o " + out + " --max-depth -2", "--max-depth"},
+        {data("empty.gltf") + " -o " + out + " --integrator bdpt", "bdpt"},
+        {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
+        {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
+        {data("empty.gltf") + " -o " + quote(dir / "out"), "out"},
+        {data("empty.gltf"), "-o"},
+        {"-o " + out, "scene"},
+    };
+    for (const Case& c : cases) {
+        INFO("brume render " << c.args);
+        Result r = runBrume("render " + c.args);
+        CHECK(r.code == 2);
+        checkOneLineError(r);
+        CHECK(r.err.find(c.mention) != std::string::npos);
+        CHECK(r.out.empty());
+        CHECK(dir.files().empty());
+    }
+}
+
+TEST_CASE("cli: scene and file errors exit with 1 and leave no file", "[cli]") {
+    TempDir dir;
+    const std::string out = dir / "out.exr";
+
+    Result r = runBrume("render " + quote(dir / "missing.gltf") + " -o " + quote(out) + kTiny);
+    CHECK(r.code == 1);
+    checkOneLineError(r);
+    CHECK(r.err.find("missing.gltf") != std::string::npos);
+    CHECK(dir.files().empty());
+
+    {
+        std::ofstream bad(dir / "broken.gltf");
+        bad << "{ \"asset\": { \"version\": \"2.0\" }, \"nodes\": [ { \"camera\": 7 } ";
+    }
+    r = runBrume("render " + quote(dir / "broken.gltf") + " -o " + quote(out) + kTiny);
+    CHECK(r.code == 1);
+    checkOneLineError(r);
+    CHECK(r.err.find("broken.gltf") != std::string::npos);
+    CHECK(dir.files() == std::vector<std::string>{"broken.gltf"});
+
+    r = runBrume("render " + data("empty.gltf") + " -o /nonexistent-dir/x.exr" + kTiny);
+    CHECK(r.code == 1);
+    checkOneLineError(r);
+    CHECK(r.err.find("/nonexistent-dir/x.exr") != std::string::npos);
+
+    fs::create_directory(dir / "taken.pfm");
+    r = runBrume("render " + data("empty.gltf") + " -o " + quote(dir / "taken.pfm") + kTiny);
+    CHECK(r.code == 1);
+    checkOneLineError(r);
+    CHECK(fs::is_directory(dir / "taken.pfm"));
+    CHECK(dir.files().size() == 2);
+}
+
+TEST_CASE("cli: .exr, .pfm and .png are written and read back", "[cli]") {
+    TempDir dir;
+    for (const char* name : {"fog.exr", "fog.pfm", "fog.png"}) {
+        INFO(name);
+        Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / name) + kTiny);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 0);
+        CHECK(r.out.find("4 spp") != std::string::npos);
+        CHECK(r.out.find("rays/s") != std::string::npos);
+        std::vector<float> rgb = readBack(dir / name, 16, 12);
+        float maxValue = 0;
+        for (float v : rgb) maxValue = std::max(maxValue, v);
+        CHECK(maxValue > 0);
+    }
+    auto files = dir.files();
+    std::sort(files.begin(), files.end());
+    CHECK(files == std::vector<std::string>{"fog.exr", "fog.pfm", "fog.png"});  // no temporary files
+
+    // The float formats agree exactly; PNG within its 8-bit sRGB quantisation.
+    int w, h;
+    std::vector<float> exr = brume::readImage(dir / "fog.exr", &w, &h);
+    std::vector<float> pfm = brume::readImage(dir / "fog.pfm", &w, &h);
+    std::vector<float> png = brume::readImage(dir / "fog.png", &w, &h);
+    CHECK(exr == pfm);
+    for (size_t i = 0; i < pfm.size(); ++i) {
+        float clamped = std::min(1.0f, std::max(0.0f, pfm[i]));
+        REQUIRE(png[i] == Approx(clamped).margin(0.01 + 0.02 * clamped));
+    }
+}
+
+TEST_CASE("cli: 1 and 2 threads give byte-identical images; seeds differ", "[cli]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "t1.pfm") + kTiny + " --threads 1 --seed 5").code == 0);
+    REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "t2.pfm") + kTiny + " --threads 2 --seed 5").code == 0);
+    REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "s6.pfm") + kTiny + " --threads 2 --seed 6").code == 0);
+    std::string t1 = readFile(dir / "t1.pfm"), t2 = readFile(dir / "t2.pfm"), s6 = readFile(dir / "s6.pfm");
+    CHECK(t1.size() == 14 + 16 * 12 * 12);  // "PF\n16 12\n-1.0\n" + float RGB
+    CHECK(t1 == t2);
+    CHECK(t1 != s6);
+}
+
+TEST_CASE("cli: an empty scene renders black, default size from the aspect ratio", "[cli]") {
+    TempDir dir;
+    Result r = runBrume("render " + data("empty.gltf") + " -o " + quote(dir / "empty.pfm") + " --spp 1");
+    INFO("stderr: " << r.err);
+    REQUIRE(r.code == 0);
+    std::vector<float> rgb = readBack(dir / "empty.pfm", 640, 640);  // aspectRatio 1
+    CHECK(std::count(rgb.begin(), rgb.end(), 0.0f) == long(rgb.size()));
+
+    r = runBrume("render " + data("empty.gltf") + " -o " + quote(dir / "timed.pfm") + " --res 8x8 --time 0.05");
+    CHECK(r.code == 0);
+    readBack(dir / "timed.pfm", 8, 8);
+}
+
+TEST_CASE("image_io: PFM layout, round trips, failures leave nothing", "[cli][io]") {
+    TempDir dir;
+    const int w = 3, h = 2;
+    std::vector<float> rgb(3 * w * h);
+    for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = 0.1f * float(i) - 0.3f;
+    brume::writeImage(dir / "a.pfm", w, h, rgb);
+    std::string bytes = readFile(dir / "a.pfm");
+    const std::string header = "PF\n3 2\n-1.0\n";
+    REQUIRE(bytes.size() == header.size() + 4 * rgb.size());
+    CHECK(bytes.compare(0, header.size(), header) == 0);
+    float first;  // bottom row first: pixel (0, 1) red
+    std::memcpy(&first, bytes.data() + header.size(), 4);
+    CHECK(first == rgb[3 * w]);
+    int rw, rh;
+    CHECK(brume::readImage(dir / "a.pfm", &rw, &rh) == rgb);
+
+    brume::writeImage(dir / "a.exr", w, h, rgb);
+    CHECK(brume::readImage(dir / "a.exr", &rw, &rh) == rgb);
+
+    CHECK_THROWS_AS(brume::writeImage(dir / "a.tiff", w, h, rgb), std::runtime_error);
+    CHECK_THROWS_AS(brume::writeImage(dir / "b.pfm", w, h, std::vector<float>(5)), std::runtime_error);
+    CHECK_THROWS_AS(brume::writeImage(dir / "nodir/c.exr", w, h, rgb), std::runtime_error);
+    fs::create_directory(dir / "d.exr");
+    CHECK_THROWS_WITH(brume::writeImage(dir / "d.exr", w, h, rgb), Catch::Contains("d.exr"));
+    CHECK_THROWS_AS(brume::readImage(dir / "missing.exr", &rw, &rh), std::runtime_error);
+    CHECK_THROWS_AS(brume::checkImageWritable(dir / "x.bmp"), std::invalid_argument);
+    CHECK_THROWS_AS(brume::checkImageWritable(dir / "nodir/x.png"), std::runtime_error);
+    brume::checkImageWritable(dir / "x.png");
+
+    auto files = dir.files();
+    std::sort(files.begin(), files.end());
+    CHECK(files == std::vector<std::string>{"a.exr", "a.pfm", "d.exr"});
+}

@@ -1,0 +1,272 @@
+// Film accumulation and the renderer's scheduling, with fake integrators on an empty scene:
+// averaging over passes, the (seed, pixel, pass) sample streams, identical images for any
+// thread count (splats included), dropped non-finite samples, time budgets, cancellation.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "brume/render/film.h"
+#include "brume/render/renderer.h"
+#include "brume/scene/scene.h"
+
+using namespace brume;
+
+namespace {
+
+// The first value the integrator draws, in every channel: checks the sample streams.
+struct FirstDrawIntegrator : Integrator {
+    Spectrum sample(const Scene&, float, float, int, int, Sampler& sampler, PathStats& stats) const override {
+        stats.rays += 2;
+        return Spectrum(sampler.next1D());
+    }
+};
+
+// The film position itself: checks the jitter and the pixel convention.
+struct PositionIntegrator : Integrator {
+    Spectrum sample(const Scene&, float fx, float fy, int, int, Sampler&, PathStats&) const override {
+        return Spectrum(fx, fy, 0.0f);
+    }
+};
+
+// NaN at pixel (0,0), +inf at pixel (1,0), 1 elsewhere.
+struct NonFiniteIntegrator : Integrator {
+    Spectrum sample(const Scene&, float fx, float fy, int, int, Sampler&, PathStats&) const override {
+        if (fy < 1 && fx < 1) return Spectrum(std::numeric_limits<float>::quiet_NaN());
+        if (fy < 1 && fx < 2) return Spectrum(0.0f, std::numeric_limits<float>::infinity(), 0.0f);
+        return Spectrum(1.0f);
+    }
+};
+
+// Three splats per sample at random pixels (some outside the image), plus a random value.
+struct SplattingFake : SplattingIntegrator {
+    Spectrum sampleWithSplats(const Scene&, float, float, int width, int height, Sampler& sampler, PathStats&,
+                              SplatList& splats) const override {
+        for (int i = 0; i < 3; ++i) {
+            float x = sampler.next1D() * float(width + 4) - 2.0f;
+            float y = sampler.next1D() * float(height + 4) - 2.0f;
+            splats.splat(x, y, Spectrum(sampler.next1D(), 0.25f, 1e-3f * sampler.next1D()), width, height);
+        }
+        return Spectrum(sampler.next1D(), 0.0f, 0.0f);
+    }
+};
+
+struct ThrowingIntegrator : Integrator {
+    Spectrum sample(const Scene&, float fx, float fy, int, int, Sampler&, PathStats&) const override {
+        if (fx > 20 && fy > 10) throw std::runtime_error("integrator failure");
+        return Spectrum(1.0f);
+    }
+};
+
+const Scene& emptyScene() {
+    static Scene scene{SceneDescription{}};
+    return scene;
+}
+
+RenderOptions options(int w, int h, int spp, int threads, uint64_t seed = 7) {
+    RenderOptions o;
+    o.width = w;
+    o.height = h;
+    o.spp = spp;
+    o.threads = threads;
+    o.seed = seed;
+    return o;
+}
+
+std::vector<float> renderImage(const Integrator& integrator, const RenderOptions& o, RenderStats* stats = nullptr) {
+    Film film(o.width, o.height);
+    RenderStats s = render(emptyScene(), integrator, o, film);
+    if (stats) *stats = s;
+    return film.rgb();
+}
+
+}  // namespace
+
+TEST_CASE("film: pixel is the mean over completed passes", "[film]") {
+    Film film(3, 2);
+    CHECK(film.passes() == 0);
+    CHECK(film.pixel(2, 1).x == 0.0f);
+    film.add(2, 1, Spectrum(1.0f, 2.0f, 3.0f));
+    film.completePass();
+    film.add(2, 1, Spectrum(3.0f, 0.0f, 0.5f));
+    film.add(0, 0, Spectrum(4.0f));
+    film.completePass();
+    CHECK(film.passes() == 2);
+    Spectrum p = film.pixel(2, 1);
+    CHECK(p.x == 2.0f);
+    CHECK(p.y == 1.0f);
+    CHECK(p.z == 1.75f);
+    CHECK(film.pixel(0, 0).y == 2.0f);
+    CHECK(film.pixel(1, 0).y == 0.0f);
+
+    std::vector<float> rgb = film.rgb();
+    REQUIRE(rgb.size() == 18);
+    CHECK(rgb[3 * (1 * 3 + 2) + 0] == 2.0f);  // row-major, top row first
+    CHECK(rgb[3 * (1 * 3 + 2) + 2] == 1.75f);
+    CHECK(rgb[0] == 2.0f);
+
+    film.clear();
+    CHECK(film.passes() == 0);
+    film.completePass();
+    CHECK(film.pixel(2, 1).x == 0.0f);
+}
+
+TEST_CASE("film: splats are divided by the passes and skip positions outside", "[film]") {
+    Film film(4, 4);
+    SplatList list;
+    list.splat(1.5f, 2.9f, Spectrum(6.0f), 4, 4);
+    list.splat(1.0f, 2.0f, Spectrum(2.0f), 4, 4);
+    list.splat(-0.5f, 1.0f, Spectrum(100.0f), 4, 4);  // outside
+    list.splat(4.0f, 1.0f, Spectrum(100.0f), 4, 4);   // outside
+    list.splat(0.0f, 0.0f, Spectrum(std::numeric_limits<float>::quiet_NaN()), 4, 4);
+    CHECK(list.records().size() == 2);
+    CHECK(list.nonFinite() == 1);
+    CHECK_FALSE(film.hasSplats());
+    film.mergeSplats(list);
+    CHECK(film.hasSplats());
+    film.add(1, 2, Spectrum(4.0f));
+    film.completePass();
+    film.completePass();
+    CHECK(film.pixel(1, 2).x == 6.0f);  // (6 + 2 + 4) / 2
+    CHECK(film.pixel(0, 1).x == 0.0f);
+    list.clear();
+    CHECK(list.records().empty());
+    CHECK(list.nonFinite() == 0);
+}
+
+TEST_CASE("film: bad sizes are rejected", "[film]") {
+    CHECK_THROWS_AS(Film(0, 4), std::invalid_argument);
+    CHECK_THROWS_AS(Film(4, -1), std::invalid_argument);
+}
+
+TEST_CASE("renderer: each sample uses Sampler(seed, y*width+x, pass), jitter first", "[renderer]") {
+    const int w = 21, h = 18, spp = 3;
+    FirstDrawIntegrator integrator;
+    RenderStats stats;
+    std::vector<float> img = renderImage(integrator, options(w, h, spp, 2, 1234), &stats);
+    CHECK(stats.passes == spp);
+    CHECK(stats.samples == uint64_t(w * h * spp));
+    CHECK(stats.rays == 2 * stats.samples);
+    CHECK(stats.nonFinite == 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0;
+            for (int pass = 0; pass < spp; ++pass) {
+                Sampler s(1234, uint64_t(y) * w + x, pass);
+                s.next2D();
+                sum += s.next1D();
+            }
+            REQUIRE(img[3 * (y * w + x)] == float(sum * (1.0 / spp)));
+        }
+}
+
+TEST_CASE("renderer: film positions are jittered inside their pixel, top-left origin", "[renderer]") {
+    const int w = 19, h = 17, spp = 4;
+    PositionIntegrator integrator;
+    std::vector<float> img = renderImage(integrator, options(w, h, spp, 2));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float fx = img[3 * (y * w + x)], fy = img[3 * (y * w + x) + 1];
+            REQUIRE(fx >= float(x));
+            REQUIRE(fx < float(x + 1));
+            REQUIRE(fy >= float(y));
+            REQUIRE(fy < float(y + 1));
+        }
+    // The jitter is not always the pixel centre.
+    CHECK(img[0] != 0.5f);
+}
+
+TEST_CASE("renderer: the same seed gives the same image for any thread count", "[renderer]") {
+    const int w = 45, h = 37;  // not a multiple of the tile size
+    FirstDrawIntegrator integrator;
+    std::vector<float> one = renderImage(integrator, options(w, h, 3, 1));
+    for (int threads : {2, 3, 8}) {
+        INFO("threads " << threads);
+        CHECK(renderImage(integrator, options(w, h, 3, threads)) == one);
+    }
+    CHECK(renderImage(integrator, options(w, h, 3, 0)) == one);  // hardware threads
+    CHECK(renderImage(integrator, options(w, h, 3, 1, 8)) != one);  // another seed
+}
+
+TEST_CASE("renderer: splats are merged identically for any thread count", "[renderer]") {
+    const int w = 40, h = 35, spp = 3;
+    SplattingFake integrator;
+    RenderStats stats;
+    std::vector<float> one = renderImage(integrator, options(w, h, spp, 1), &stats);
+    for (int threads : {2, 5}) {
+        INFO("threads " << threads);
+        CHECK(renderImage(integrator, options(w, h, spp, threads)) == one);
+    }
+    // Green: every in-image splat adds 0.25 / spp; about 3·w·h·(w·h)/((w+4)(h+4)) per pass.
+    double green = 0;
+    for (int i = 0; i < w * h; ++i) green += one[3 * i + 1];
+    double splatsPerPass = green / 0.25;
+    double expected = 3.0 * w * h * (double(w * h) / ((w + 4) * (h + 4)));
+    CHECK(splatsPerPass == Approx(expected).epsilon(0.05));
+}
+
+TEST_CASE("renderer: non-finite samples are dropped and counted", "[renderer]") {
+    const int w = 8, h = 4, spp = 5;
+    NonFiniteIntegrator integrator;
+    RenderStats stats;
+    std::vector<float> img = renderImage(integrator, options(w, h, spp, 2), &stats);
+    CHECK(stats.nonFinite == 2 * spp);
+    CHECK(stats.samples == uint64_t(w * h * spp));
+    for (float v : img) CHECK(std::isfinite(v));
+    CHECK(img[0] == 0.0f);
+    CHECK(img[3 + 1] == 0.0f);
+    CHECK(img[3 * 2] == 1.0f);
+}
+
+TEST_CASE("renderer: more passes on the same film continue the sequence", "[renderer]") {
+    const int w = 20, h = 20;
+    FirstDrawIntegrator integrator;
+    std::vector<float> four = renderImage(integrator, options(w, h, 4, 2));
+    Film film(w, h);
+    render(emptyScene(), integrator, options(w, h, 2, 1), film);
+    render(emptyScene(), integrator, options(w, h, 2, 2), film);
+    CHECK(film.passes() == 4);
+    std::vector<float> twice = film.rgb();
+    for (size_t i = 0; i < four.size(); ++i) REQUIRE(twice[i] == Approx(four[i]).margin(1e-6));
+}
+
+TEST_CASE("renderer: a time budget renders whole passes, at least one", "[renderer]") {
+    FirstDrawIntegrator integrator;
+    RenderOptions o = options(16, 16, 1, 2);
+    o.spp = 0;  // ignored with a budget
+    o.timeBudget = 0.05;
+    Film film(16, 16);
+    RenderStats stats = render(emptyScene(), integrator, o, film);
+    CHECK(stats.passes >= 1);
+    CHECK(film.passes() == stats.passes);
+    CHECK(stats.samples == uint64_t(256) * stats.passes);
+    CHECK(stats.seconds >= 0.05);
+    CHECK(stats.seconds < 5.0);
+
+    o.timeBudget = 1e-9;
+    Film film2(16, 16);
+    CHECK(render(emptyScene(), integrator, o, film2).passes == 1);
+}
+
+TEST_CASE("renderer: cancellation stops after the current pass", "[renderer]") {
+    FirstDrawIntegrator integrator;
+    std::atomic<bool> cancel{true};
+    Film film(16, 16);
+    RenderStats stats = render(emptyScene(), integrator, options(16, 16, 50, 2), film, &cancel);
+    CHECK(stats.passes == 1);
+    CHECK(film.passes() == 1);
+}
+
+TEST_CASE("renderer: bad options and integrator exceptions", "[renderer]") {
+    FirstDrawIntegrator integrator;
+    Film film(16, 16);
+    CHECK_THROWS_AS(render(emptyScene(), integrator, options(16, 15, 1, 1), film), std::invalid_argument);
+    CHECK_THROWS_AS(render(emptyScene(), integrator, options(16, 16, 0, 1), film), std::invalid_argument);
+    CHECK_THROWS_AS(render(emptyScene(), integrator, options(16, 16, 1, -1), film), std::invalid_argument);
+    ThrowingIntegrator thrower;
+    Film big(40, 40);
+    CHECK_THROWS_WITH(render(emptyScene(), thrower, options(40, 40, 2, 2), big), "integrator failure");
+}

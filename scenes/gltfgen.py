@@ -183,11 +183,17 @@ class GltfBuilder:
     def add_material(self, name, base_color=(0.8, 0.8, 0.8), metallic=0.0, roughness=1.0,
                      emissive=None, emissive_strength=None, double_sided=False):
         """Metallic-roughness material. metallicFactor is always written (glTF default is 1).
-        Radiance of an emissive material = emissive x emissive_strength [W/(m^2 sr)]."""
+        Radiance of an emissive material = emissive x emissive_strength [W/(m^2 sr)]; an
+        `emissive` above 1 is written as emissiveFactor <= 1 times KHR_materials_emissive_strength."""
         pbr = {"baseColorFactor": [float(c) for c in base_color] + [1.0],
                "metallicFactor": float(metallic), "roughnessFactor": float(roughness)}
         mat = {"name": name, "pbrMetallicRoughness": pbr}
         if emissive is not None:
+            # glTF limits emissiveFactor to [0, 1]: move any excess into the strength
+            peak = max(float(c) for c in emissive)
+            if peak > 1.0:
+                emissive = [float(c) / peak for c in emissive]
+                emissive_strength = peak * (1.0 if emissive_strength is None else emissive_strength)
             mat["emissiveFactor"] = [float(c) for c in emissive]
         if emissive_strength is not None and emissive_strength != 1.0:
             mat["extensions"] = {"KHR_materials_emissive_strength": {

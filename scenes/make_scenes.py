@@ -60,10 +60,10 @@ def make_street(path):
 
     # ---- materials (metallicFactor 0 = Lambertian)
     m_ground = b.add_material("asphalt", base_color=(0.3, 0.3, 0.3))
-    m_pavement = b.add_material("pavement", base_color=(0.42, 0.41, 0.39))
-    m_facade = [b.add_material("facade_stone", base_color=(0.42, 0.38, 0.33)),
-                b.add_material("facade_plaster", base_color=(0.5, 0.48, 0.45)),
-                b.add_material("facade_brick", base_color=(0.38, 0.24, 0.18))]
+    m_pavement = b.add_material("pavement", base_color=(0.3, 0.29, 0.28))
+    m_facade = [b.add_material("facade_stone", base_color=(0.27, 0.24, 0.21)),
+                b.add_material("facade_plaster", base_color=(0.33, 0.31, 0.29)),
+                b.add_material("facade_brick", base_color=(0.26, 0.15, 0.11))]
     m_window = b.add_material("lit_window", base_color=(0.0, 0.0, 0.0),
                               emissive=(1.0, 0.72, 0.42), emissive_strength=1.5)
     m_iron = b.add_material("lamp_iron", base_color=(0.06, 0.06, 0.065))

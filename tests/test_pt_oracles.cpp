@@ -129,7 +129,7 @@ TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][
         }
         const Vec3 I = sc.spot ? Vec3(30.0f) : Vec3(10.0f);
         PathTracer pt(PathTracerOptions{1, true, mode});
-        auto px = estimatePixels(*scene, pt, W, H, 512, 5);
+        auto px = estimatePixels(*scene, pt, W, H, 4096, 5);
         std::string what = std::string(sc.file) + " " + modeName(mode);
         requireAgreement(px, W, [&](int x, int y) {
             return singleScatterReference(referenceCameraDirection(x, y, W, H, yfov), sc.light, I, sc.sigmaS,
@@ -143,7 +143,7 @@ TEST_CASE("the single-scattering oracle can fail: a wrong phase sign is detected
     auto scene = loadTestScene("single_near.gltf");
     PathTracer pt(PathTracerOptions{1, true, ConnectMode::Density});
     const int W = 10, H = 10;
-    auto px = estimatePixels(*scene, pt, W, H, 512, 5);
+    auto px = estimatePixels(*scene, pt, W, H, 4096, 5);
     double worst = 0;
     for (int i = 0; i < W * H; ++i) {
         Vec3 ref = singleScatterReference(referenceCameraDirection(i % W, i / W, W, H, 0.6), Vec3(0.3f, 0.2f, -3),

@@ -29,8 +29,8 @@ constexpr long kSamples = 1000000;
 constexpr double kIntegralTol = 1e-3;
 
 void report(const std::string& name, const HistogramResult& r) {
-    std::printf("[chi2] %-48s chi2 = %10.2f  dof = %4d  p = %.4f  integral = %.7f\n", name.c_str(), r.chi2.chi2,
-                r.chi2.dof, r.chi2.pValue, r.pdfIntegral);
+    std::printf("[chi2] %-40s chi2 = %9.2f  dof = %4d  p = %.4f  integral = %.7f  (quadrature warnings %d)\n",
+                name.c_str(), r.chi2.chi2, r.chi2.dof, r.chi2.pValue, r.pdfIntegral, r.integrationWarnings);
 }
 
 // The common checks of one histogram run: valid samples, p above the (corrected) level.
@@ -53,8 +53,17 @@ TEST_CASE("chi-square p-values match known quantiles", "[support]") {
     CHECK(chiSquarePValue(3.841458820694124, 1) == Approx(0.05).epsilon(1e-9));
     CHECK(chiSquarePValue(18.307038053275146, 10) == Approx(0.05).epsilon(1e-9));
     CHECK(chiSquarePValue(124.34211340400407, 100) == Approx(0.05).epsilon(1e-9));
-    // 99% quantile for 1000 dof.
-    CHECK(chiSquarePValue(1106.9690252, 1000) == Approx(0.01).epsilon(1e-6));
+    // Even dof 2k: Q(k, x) = e^{−x} Σ_{i<k} x^i / i!, summed here in logs (large a, both
+    // sides of the switch between series and continued fraction).
+    for (double chi2 : {900.0, 1000.0, 1107.0, 1300.0}) {
+        const int k = 500;
+        double x = 0.5 * chi2, sum = 0, logTerm = -x;  // log(e^{−x} x^i / i!) at i = 0
+        for (int i = 0; i < k; ++i) {
+            sum += std::exp(logTerm);
+            logTerm += std::log(x) - std::log(double(i + 1));
+        }
+        CHECK(chiSquarePValue(chi2, 2 * k) == Approx(sum).epsilon(1e-10));
+    }
     // Two degrees of freedom: Q = exp(−x/2).
     for (double x : {0.01, 0.5, 3.0, 20.0, 200.0}) CHECK(chiSquarePValue(x, 2) == Approx(std::exp(-0.5 * x)).epsilon(1e-12));
     // Q(1/2, x) = erfc(√x), both sides of the series / continued-fraction switch.
@@ -117,9 +126,13 @@ TEST_CASE("the histogram tests have power against wrong densities", "[support]")
 }
 
 TEST_CASE("quadrature handles smooth, peaked and discontinuous integrands", "[support]") {
-    CHECK(integrate1D([](double x) { return std::sin(x); }, 0, M_PI) == Approx(2.0).epsilon(1e-10));
+    // Default tolerances (relative 1e-6), then tight ones.
+    CHECK(integrate1D([](double x) { return std::sin(x); }, 0, M_PI) == Approx(2.0).epsilon(1e-6));
+    CHECK(integrate1D([](double x) { return std::sin(x); }, 0, M_PI, 1e-14, 1e-12) == Approx(2.0).epsilon(1e-11));
     // A jump inside the interval.
-    CHECK(integrate1D([](double x) { return x < 0.3141 ? 2.0 : 0.0; }, 0, 1) == Approx(0.6282).epsilon(1e-8));
+    CHECK(integrate1D([](double x) { return x < 0.3141 ? 2.0 : 0.0; }, 0, 1) == Approx(0.6282).epsilon(1e-6));
+    CHECK(integrate1D([](double x) { return x < 0.3141 ? 2.0 : 0.0; }, 0, 1, 1e-14, 1e-11) ==
+          Approx(0.6282).epsilon(1e-10));
     // Sharply peaked: ∫_{-1}^{1} ε/(π(x²+ε²)) dx = 2 atan(1/ε)/π.
     double eps = 1e-4;
     CHECK(integrate1D([&](double x) { return eps / (M_PI * (x * x + eps * eps)); }, -1, 1) ==

@@ -77,7 +77,7 @@ View view(const Source& src, const tinygltf::Model& model, int index, const std:
     v.count = a.count;
     const size_t element = size_t(v.components) * size_t(v.componentSize);
 
-    if (a.bufferView < 0) {  // glTF: an accessor without a buffer view holds zeros
+    if (a.bufferView == -1) {  // glTF: an accessor without a buffer view holds zeros
         if (a.count > (size_t(1) << 26))
             src.fail(field + ".count", std::to_string(a.count) + " elements without a bufferView is too many" + as);
         return v;

@@ -59,7 +59,7 @@ std::string fieldOfTinygltfError(const std::string& err, bool binary) {
 // for decodeImage (gltf_material.cpp) because tinygltf reads them without a bounds check.
 bool loadImageData(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width, int height,
                    const unsigned char* bytes, int size, void*) {
-    if (image->bufferView >= 0) return true;
+    if (image->bufferView != -1) return true;
     // No options: stb_image expands grey and grey + alpha to RGBA.
     return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
 }
@@ -138,7 +138,7 @@ tinygltf::Model readModel(const Source& src) {
     // tinygltf only warns about an image file it cannot read.
     for (size_t i = 0; i < model.images.size(); ++i) {
         const tinygltf::Image& image = model.images[i];
-        if (image.bufferView >= 0 || !image.image.empty()) continue;
+        if (image.bufferView != -1 || !image.image.empty()) continue;
         std::string uri = image.uri.size() > 80 ? image.uri.substr(0, 60) + "..." : image.uri;
         src.fail(at("images", i) + ".uri",
                  "cannot load '" + uri + "'" + (warn.empty() ? std::string() : " (" + tidy(warn) + ")"));

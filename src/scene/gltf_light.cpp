@@ -30,7 +30,8 @@ Light makeLight(const Source& src, const tinygltf::Model& model, int lightIndex,
     Spectrum color(1.0f);
     if (!gl.color.empty()) {
         if (gl.color.size() != 3) src.fail(lf + ".color", "expected 3 numbers, got " + std::to_string(gl.color.size()));
-        for (int c = 0; c < 3; ++c) color[c] = float(nonNegative(src, gl.color[size_t(c)], lf + ".color", "color component"));
+        for (int c = 0; c < 3; ++c)
+            color[c] = float(nonNegative(src, gl.color[size_t(c)], lf + ".color", "color component"));
     }
     const double intensity = nonNegative(src, gl.intensity, lf + ".intensity", "intensity");
     l.intensity = color * float(intensity);
@@ -45,7 +46,8 @@ Light makeLight(const Source& src, const tinygltf::Model& model, int lightIndex,
     if (gl.type == "point") {
         l.kind = LightKind::Point;
         if (const tinygltf::Value* r = member(gl.extras, "radius")) {
-            double radius = nonNegative(src, finiteNumber(src, *r, lf + ".extras.radius"), lf + ".extras.radius", "radius");
+            const std::string field = lf + ".extras.radius";
+            double radius = nonNegative(src, finiteNumber(src, *r, field), field, "radius");
             if (radius > 0) {
                 l.kind = LightKind::Sphere;
                 l.radius = float(radius);
@@ -56,7 +58,8 @@ Light makeLight(const Source& src, const tinygltf::Model& model, int lightIndex,
         l.kind = gl.type == "spot" ? LightKind::Spot : LightKind::Directional;
         if (l.kind == LightKind::Spot) {
             const double inner = gl.spot.innerConeAngle, outer = gl.spot.outerConeAngle;
-            if (!(std::isfinite(inner) && std::isfinite(outer) && 0 <= inner && inner < outer && outer <= kHalfPi + 1e-9))
+            if (!(std::isfinite(inner) && std::isfinite(outer) && 0 <= inner && inner < outer &&
+                  outer <= kHalfPi + 1e-9))
                 src.fail(lf + ".spot", "need 0 <= innerConeAngle < outerConeAngle <= pi/2, got innerConeAngle " +
                                            num(inner) + ", outerConeAngle " + num(outer));
             l.cosInner = float(std::cos(inner));

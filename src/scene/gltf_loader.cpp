@@ -142,12 +142,13 @@ private:
     void visit(int index, const Mat4& world) {
         const tinygltf::Node& node = model_.nodes[size_t(index)];
         const std::string nf = at("nodes", size_t(index));
-        if (node.mesh >= 0) gltf::appendMesh(src_, model_, node.mesh, world, nf + ".mesh", desc_, fallback_);
-        if (node.camera >= 0) {
+        if (node.mesh != -1) gltf::appendMesh(src_, model_, node.mesh, world, nf + ".mesh", desc_, fallback_);
+        if (node.camera != -1) {
             int ci = checkIndex(src_, node.camera, model_.cameras.size(), nf + ".camera", "camera");
             const tinygltf::Camera& camera = model_.cameras[size_t(ci)];
             if (camera.type == "perspective") {
-                if (!hasCamera_) desc_.camera = makeCamera(src_, camera.perspective, world, at("cameras", size_t(ci)), nf);
+                if (!hasCamera_)
+                    desc_.camera = makeCamera(src_, camera.perspective, world, at("cameras", size_t(ci)), nf);
                 hasCamera_ = true;
             } else if (orthographic_.empty()) {
                 orthographic_ = at("cameras", size_t(ci)) + ".type";

@@ -32,11 +32,11 @@ public:
         : src_(src), model_(model), desc_(desc), byImage_(model.images.size(), -1) {}
 
     int get(const tinygltf::TextureInfo& info, const std::string& field) {
-        if (info.index < 0) return -1;  // texCoord other than 0 is read as 0
+        if (info.index == -1) return -1;  // texCoord other than 0 is read as 0
         checkIndex(src_, info.index, model_.textures.size(), field + ".index", "texture");
         const std::string textureField = at("textures", size_t(info.index));
         const int source = model_.textures[size_t(info.index)].source;
-        if (source < 0) src_.fail(textureField + ".source", "no image (only PNG and JPEG images are supported)");
+        if (source == -1) src_.fail(textureField + ".source", "no image (only PNG and JPEG images are supported)");
         const int image = checkIndex(src_, source, model_.images.size(), textureField + ".source", "image");
         if (byImage_[size_t(image)] < 0) {
             byImage_[size_t(image)] = int(desc_.textures.size());
@@ -49,7 +49,7 @@ private:
     Texture decode(int index) {
         const tinygltf::Image& image = model_.images[size_t(index)];
         const std::string field = at("images", size_t(index));
-        if (image.bufferView < 0 || !image.image.empty()) return decodeSrgbImage(src_, image, field);
+        if (image.bufferView == -1 || !image.image.empty()) return decodeSrgbImage(src_, image, field);
         // Stored in a buffer view: tinygltf left it to us (see readModel) to check bounds first.
         size_t length = 0;
         const unsigned char* bytes = bufferViewBytes(src_, model_, image.bufferView, field + ".bufferView", &length);
@@ -85,18 +85,19 @@ Material convert(const Source& src, const tinygltf::Material& gm, const std::str
         emissive[c] = float(unitInterval(src, gm.emissiveFactor[size_t(c)], mf + ".emissiveFactor"));
     const double strength =
         extensionNumber(src, gm, mf, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
-    if (strength < 0)
-        src.fail(mf + ".extensions.KHR_materials_emissive_strength.emissiveStrength", "negative strength " + num(strength));
+    const std::string strengthField = mf + ".extensions.KHR_materials_emissive_strength.emissiveStrength";
+    if (strength < 0) src.fail(strengthField, "negative strength " + num(strength));
     m.emission = emissive * float(strength);
-    if (!isFinite(m.emission))
-        src.fail(mf + ".extensions.KHR_materials_emissive_strength.emissiveStrength", num(strength) + " is too large");
+    if (!isFinite(m.emission)) src.fail(strengthField, num(strength) + " is too large");
     m.emissiveTexture = textures.get(gm.emissiveTexture, mf + ".emissiveTexture");
 
     const double transmission = unitInterval(
         src, extensionNumber(src, gm, mf, "KHR_materials_transmission", "transmissionFactor", 0.0),
         mf + ".extensions.KHR_materials_transmission.transmissionFactor");
     const double ior = extensionNumber(src, gm, mf, "KHR_materials_ior", "ior", 1.5);
-    if (!(ior >= 1 && ior < 1e6)) src.fail(mf + ".extensions.KHR_materials_ior.ior", "ior " + num(ior) + " must be at least 1");
+    const std::string iorField = mf + ".extensions.KHR_materials_ior.ior";
+    if (!(ior >= 1)) src.fail(iorField, "ior " + num(ior) + " must be at least 1");
+    if (ior > 1e6) src.fail(iorField, "ior " + num(ior) + " is too large");
     m.ior = float(ior);
 
     if (transmission >= 0.5)

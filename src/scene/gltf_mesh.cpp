@@ -68,7 +68,8 @@ void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, 
                 src.fail(pf + ".attributes.NORMAL", std::to_string(N.size() / 3) + " normals for " +
                                                         std::to_string(n) + " positions");
             mesh.normals.reserve(n);
-            for (size_t i = 0; i < n; ++i) mesh.normals.push_back(worldNormal(world, Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2])));
+            for (size_t i = 0; i < n; ++i)
+                mesh.normals.push_back(worldNormal(world, Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2])));
         }
 
         if (int a = attribute("TEXCOORD_0"); a >= 0) {
@@ -79,7 +80,7 @@ void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, 
                                                             " positions");
         }
 
-        if (prim.indices >= 0) {
+        if (prim.indices != -1) {
             mesh.indices = readIndices(src, model, prim.indices, pf + ".indices");
             for (size_t i = 0; i < mesh.indices.size(); ++i)
                 if (mesh.indices[i] >= n)
@@ -101,7 +102,7 @@ void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, 
         if (mirrored)
             for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
 
-        if (prim.material >= 0)
+        if (prim.material != -1)
             mesh.material = checkIndex(src, prim.material, model.materials.size(), pf + ".material", "material");
         else
             mesh.material = fallbackMaterial(desc, fallback, interior >= 0);

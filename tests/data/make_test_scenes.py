@@ -118,6 +118,22 @@ def quad_light_fog(name):
     return b.write(out(name))
 
 
+def area_quad(name):
+    """Quadrature oracle: a one-sided 1 m quad light, radiance 5, 1 m above the top of the
+    view (camera yfov 0.6), facing down, in single-scattering fog. See test_pt_area_oracles."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                             emissive=(5.0, 5.0, 5.0))
+    pos, nrm, uvs, idx = g.quad((0.0, 2.0, -3.0), (0.5, 0.0, 0.0), (0.0, 0.0, 0.5))
+    for t in range(2):
+        n = g.normalize(g.triangle_normal(pos, idx, t))
+        assert abs(n[1] + 1.0) < 1e-12
+    b.add_node("quad_light", mesh=b.add_mesh("quad_light", pos, idx, normals=nrm, material=emitter))
+    return b.write(out(name))
+
+
 def main():
     written = [
         furnace("furnace_ambient.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0),
@@ -132,6 +148,9 @@ def main():
         empty("empty.gltf"),
         quad_light_fog("quad_light_fog.gltf"),
         single("sphere_light_fog.gltf", (0.3, 0.2, -3.0), radius=0.25),
+        # Sphere light partly in view (test_pt_area_oracles).
+        single("area_sphere.gltf", (0.8, 0.5, -3.0), radius=0.3),
+        area_quad("area_quad.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

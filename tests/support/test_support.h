@@ -66,9 +66,11 @@ double integrate1D(const std::function<double(double)>& f, double a, double b, d
                    double relTol = 1e-6, int initialPieces = 4, long maxEvals = 100000);
 
 // ∫∫ f(x, y) over [x0, x1] × [y0, y1], nested adaptive Simpson (inner integral over y, run
-// ten times tighter than the outer one; budgets of 3000 inner and 600 outer evaluations).
+// ten times tighter than the outer one), each starting from initialPieces pieces (a grid of
+// (2·initialPieces + 1)² points); budgets of 1000 inner and 200 outer evaluations plus 8 per
+// initial piece.
 double integrate2D(const std::function<double(double, double)>& f, double x0, double x1, double y0, double y1,
-                   double absTol = 1e-10, double relTol = 1e-5);
+                   double absTol = 1e-10, double relTol = 1e-5, int initialPieces = 8);
 
 // Number of 1D integrals that stopped on their evaluation budget before meeting their
 // tolerance since the last call (a sign of a noisy or discontinuous integrand: harmless when

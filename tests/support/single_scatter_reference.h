@@ -1,0 +1,126 @@
+// Quadrature references for single scattering in an infinite homogeneous fog
+// (σs = 0.2, σa = 0.05, g = 0.3, as tests/data/make_test_scenes.py writes them), seen from a
+// camera at the origin: point and spot lights (1D), sphere and quad lights (1D × 2D).
+#pragma once
+#include <cmath>
+#include <vector>
+
+#include "brume/math/frame.h"
+#include "brume/scene/light.h"
+
+namespace brume::test {
+
+constexpr double kSigmaS = 0.2, kSigmaT = 0.25, kG = 0.3, kYfov = 0.6;
+
+inline double phaseHG(double cosTheta) {
+    double denom = 1 + kG * kG - 2 * kG * cosTheta;
+    return (1 - kG * kG) / (4 * M_PI * denom * std::sqrt(denom));
+}
+
+// Gauss–Legendre nodes and weights on [−1, 1] (Newton on the Legendre recurrence).
+inline void gaussLegendre(int n, std::vector<double>& x, std::vector<double>& w) {
+    x.resize(n);
+    w.resize(n);
+    for (int i = 0; i < n; ++i) {
+        double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 0;
+        for (int it = 0; it < 100; ++it) {
+            double p0 = 1, p1 = z;
+            for (int k = 2; k <= n; ++k) {
+                double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n * (z * p1 - p0) / (z * z - 1);
+            double dz = p1 / dp;
+            z -= dz;
+            if (std::abs(dz) < 1e-15) break;
+        }
+        x[i] = z;
+        w[i] = 2 / ((1 - z * z) * dp * dp);
+    }
+}
+
+// ∫0^tEnd g(t) dt for g peaked like 1/|x(t) − c|²: t = Δ + D·tanφ, composite Simpson in φ.
+template <class G>
+double integrateAlongRay(Vec3 d, Vec3 c, double tEnd, G g) {
+    double delta = double(c.x) * d.x + double(c.y) * d.y + double(c.z) * d.z;
+    double px = c.x - delta * d.x, py = c.y - delta * d.y, pz = c.z - delta * d.z;
+    double D = std::sqrt(px * px + py * py + pz * pz);
+    double a = std::atan2(-delta, D), b = std::isinf(tEnd) ? 0.5 * M_PI : std::atan2(tEnd - delta, D);
+    const int n = 2000;
+    auto f = [&](double phi) {
+        if (phi >= 0.5 * M_PI) return 0.0;
+        double tanp = std::tan(phi);
+        return g(delta + D * tanp) * D * (1 + tanp * tanp);
+    };
+    double h = (b - a) / n, sum = f(a) + f(b);
+    for (int i = 1; i < n; ++i) sum += f(a + i * h) * (i % 2 ? 4 : 2);
+    return sum * h / 3;
+}
+
+// Sphere light (centre c, radius r, intensity I → radiance I/(π r²)) seen along d from the origin.
+inline double sphereReference(Vec3 d, Vec3 c, double r, double I) {
+    double Ls = I / (M_PI * r * r);
+    // Does the pixel's ray hit the sphere? Then it sees the emitter attenuated, and the
+    // scattering integral stops there.
+    double b = double(c.x) * d.x + double(c.y) * d.y + double(c.z) * d.z;
+    double cc = double(c.x) * c.x + double(c.y) * c.y + double(c.z) * c.z;
+    double disc = b * b - (cc - r * r);
+    double tEnd = INFINITY, direct = 0;
+    if (disc > 0 && b - std::sqrt(disc) > 0) {
+        tEnd = b - std::sqrt(disc);
+        direct = Ls * std::exp(-kSigmaT * tEnd);
+    }
+    std::vector<double> gx, gw;
+    gaussLegendre(12, gx, gw);
+    const int nPsi = 24;
+    auto inScatter = [&](double t) {
+        double x[3] = {t * d.x, t * d.y, t * d.z};
+        double a[3] = {c.x - x[0], c.y - x[1], c.z - x[2]};
+        double dc = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (dc <= r) return 0.0;
+        Vec3 axis(float(a[0] / dc), float(a[1] / dc), float(a[2] / dc));
+        Frame frame(axis);
+        double s2max = (r / dc) * (r / dc), cosMax = std::sqrt(1 - s2max);
+        double sum = 0;
+        for (int i = 0; i < 12; ++i) {
+            double u = cosMax + (1 - cosMax) * 0.5 * (gx[i] + 1);  // cosθ in [cosMax, 1]
+            double sinT = std::sqrt(std::max(0.0, 1 - u * u));
+            double s = dc * u - std::sqrt(std::max(0.0, r * r - dc * dc * sinT * sinT));
+            for (int j = 0; j < nPsi; ++j) {  // trapezoid in ψ: exact for periodic smooth integrands
+                double psi = 2 * M_PI * (j + 0.5) / nPsi;
+                Vec3 w = frame.toWorld(Vec3(float(sinT * std::cos(psi)), float(sinT * std::sin(psi)), float(u)));
+                sum += gw[i] * phaseHG(dot(d, w)) * std::exp(-kSigmaT * s);
+            }
+        }
+        double domega = 0.5 * (1 - cosMax) * (2 * M_PI / nPsi);  // du·dψ per unit weight
+        return kSigmaS * std::exp(-kSigmaT * t) * Ls * sum * domega;
+    };
+    return direct + integrateAlongRay(d, c, tEnd, inScatter);
+}
+
+// One-sided quad light centred at q, spanned by half-vectors eu, ev, front normal n, radiance Le.
+inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le) {
+    std::vector<double> gx, gw;
+    gaussLegendre(10, gx, gw);
+    double area = 4 * length(eu) * length(ev);
+    auto inScatter = [&](double t) {
+        Vec3 x = d * float(t);
+        double sum = 0;
+        for (int i = 0; i < 10; ++i)
+            for (int j = 0; j < 10; ++j) {
+                Vec3 y = q + eu * float(gx[i]) + ev * float(gx[j]);
+                Vec3 toX = x - y;
+                double r2 = dot(toX, toX), r = std::sqrt(r2);
+                double cosY = dot(n, toX) / r;
+                if (cosY <= 0) continue;
+                double cosPhase = -dot(d, toX) / r;  // light travels y → x, then along −d
+                sum += gw[i] * gw[j] * 0.25 * phaseHG(cosPhase) * cosY / r2 * std::exp(-kSigmaT * r);
+            }
+        return kSigmaS * std::exp(-kSigmaT * t) * Le * sum * area;
+    };
+    return integrateAlongRay(d, q, INFINITY, inScatter);
+}
+
+
+}  // namespace brume::test

@@ -1,0 +1,63 @@
+// Single scattering from area lights (a sphere light and a one-sided quad) at --max-depth 1,
+// for each --connect mode, against nested quadrature: an outer integral along the pixel's ray
+// and an inner one over the light.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "brume/integrators/path_tracer.h"
+#include "support/pixel_estimates.h"
+#include "support/single_scatter_reference.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+constexpr double kZ = 4.0;  // every pixel and channel within 4 standard errors (see test_pt_oracles)
+void requireAll(const std::vector<PixelEstimate>& px, int W, const std::vector<double>& ref, const std::string& what) {
+    double worst = 0;
+    int worstI = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+        double z = std::abs(px[i].mean(0) - ref[i]) / px[i].stderror(0);
+        if (z > worst) worst = z, worstI = int(i);
+    }
+    INFO(what << ": worst pixel " << worstI % W << "," << worstI / W << ": " << px[worstI].mean(0) << " ± "
+              << px[worstI].stderror(0) << " vs " << ref[worstI] << " (z = " << worst << ")");
+    CHECK(worst < kZ);
+    // Guard: the comparison has the power to see a 3% error in the reference.
+    double worstScaled = 0;
+    for (size_t i = 0; i < px.size(); ++i)
+        worstScaled = std::max(worstScaled, std::abs(px[i].mean(0) - 1.03 * ref[i]) / px[i].stderror(0));
+    CHECK(worstScaled > kZ);
+}
+
+const std::pair<ConnectMode, const char*> kModes[] = {
+    {ConnectMode::Density, "density"}, {ConnectMode::EquiAngular, "equiangular"}, {ConnectMode::Mis, "mis"}};
+
+}  // namespace
+
+TEST_CASE("single scattering from a sphere light matches quadrature", "[oracle][pt][area]") {
+    const int W = 8, H = 8;
+    auto scene = loadTestScene("area_sphere.gltf");
+    std::vector<double> ref(W * H);
+    for (int i = 0; i < W * H; ++i)
+        ref[i] = sphereReference(referenceCameraDirection(i % W, i / W, W, H, kYfov), Vec3(0.8f, 0.5f, -3), 0.3, 10.0);
+    for (auto [mode, name] : kModes) {
+        PathTracer pt(PathTracerOptions{1, true, mode});
+        requireAll(estimatePixels(*scene, pt, W, H, 8192, 11), W, ref, std::string("sphere ") + name);
+    }
+}
+
+TEST_CASE("single scattering from a one-sided quad light matches quadrature", "[oracle][pt][area]") {
+    const int W = 8, H = 8;
+    auto scene = loadTestScene("area_quad.gltf");
+    std::vector<double> ref(W * H);
+    for (int i = 0; i < W * H; ++i)
+        ref[i] = quadReference(referenceCameraDirection(i % W, i / W, W, H, kYfov), Vec3(0, 2, -3), Vec3(0.5f, 0, 0),
+                               Vec3(0, 0, 0.5f), Vec3(0, -1, 0), 5.0);
+    for (auto [mode, name] : kModes) {
+        PathTracer pt(PathTracerOptions{1, true, mode});
+        requireAll(estimatePixels(*scene, pt, W, H, 8192, 13), W, ref, std::string("quad ") + name);
+    }
+}

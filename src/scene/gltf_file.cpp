@@ -88,6 +88,7 @@ void Source::fail(const std::string& field, const std::string& problem) const {
     std::string message = path + ": " + field + ": " + problem;
     for (char& c : message)
         if (c == '\n' || c == '\r') c = ' ';
+    while (!message.empty() && message.back() == ' ') message.pop_back();
     throw SceneError(message);
 }
 

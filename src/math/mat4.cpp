@@ -48,7 +48,8 @@ double Mat4::det3() const {
 }
 
 Vec3 Mat4::normal(Vec3 n) const {
-    // Cofactor matrix = det · inverse-transpose; its direction is all a normal needs.
+    // Cofactor matrix = det · inverse-transpose; times sign(det) it points like the
+    // inverse-transpose, also for mirroring transforms.
     const Mat4& a = *this;
     double c[3][3];
     for (int i = 0; i < 3; ++i)
@@ -58,7 +59,8 @@ Vec3 Mat4::normal(Vec3 n) const {
         }
     double r[3];
     for (int i = 0; i < 3; ++i) r[i] = c[i][0] * n.x + c[i][1] * n.y + c[i][2] * n.z;
-    Vec3 out{float(r[0]), float(r[1]), float(r[2])};
+    double sign = det3() < 0 ? -1.0 : 1.0;
+    Vec3 out{float(sign * r[0]), float(sign * r[1]), float(sign * r[2])};
     float len = length(out);
     return len > 0 ? out / len : n;
 }

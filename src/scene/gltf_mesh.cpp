@@ -19,15 +19,6 @@ int fallbackMaterial(SceneDescription& desc, FallbackMaterials& fallback, bool i
     return slot;
 }
 
-// Normals go by the inverse transpose. Mat4::normal gives the direction of the cofactor
-// matrix (det · inverse transpose), which points the other way under a mirroring transform;
-// the inverse transpose n' is the one with n'·(M n) = n·n > 0, so orient by that.
-Vec3 worldNormal(const Mat4& world, Vec3 n) {
-    Vec3 out = world.normal(n);
-    if (dot(out, world.vector(n)) < 0) out = -out;
-    return out;
-}
-
 }  // namespace
 
 void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, const Mat4& world,
@@ -69,7 +60,7 @@ void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, 
                                                         std::to_string(n) + " positions");
             mesh.normals.reserve(n);
             for (size_t i = 0; i < n; ++i)
-                mesh.normals.push_back(worldNormal(world, Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2])));
+                mesh.normals.push_back(world.normal(Vec3(N[3 * i], N[3 * i + 1], N[3 * i + 2])));
         }
 
         if (int a = attribute("TEXCOORD_0"); a >= 0) {

@@ -2,6 +2,7 @@
 // intensity I [W/sr]; a directional light an irradiance E [W/m²]; an emissive triangle gets
 // its radiance from its mesh's material.
 #pragma once
+#include <algorithm>
 #include "brume/math/vec3.h"
 
 namespace brume {

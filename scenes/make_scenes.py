@@ -205,9 +205,29 @@ def _pnui(part):
     return pos, idx, nrm, uvs
 
 
+def make_fog_bench(path, scattering, absorption, light_pos, intensity):
+    """Benchmark scene for the light-connection strategies: a ground plane in homogeneous fog,
+    one point light, the camera at eye height looking down the ground."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=(0.0, 1.5, 0.0))
+    b.set_ambient(b.add_medium("fog", scattering, absorption, 0.3))
+    ground = b.add_material("ground", base_color=(0.4, 0.4, 0.4), metallic=0.0, roughness=1.0)
+    b.add_node("ground", mesh=b.add_mesh("ground", *_pnui(g.quad((0.0, 0.0, -40.0), (0.0, 0.0, 60.0),
+                                                                     (60.0, 0.0, 0.0))), material=ground))
+    b.add_light("light", "point", (1.0, 0.85, 0.6), intensity, translation=light_pos)
+    return b.write(path)
+
+
 def main():
-    path = make_street(os.path.join(HERE, "street.gltf"))
-    print(os.path.relpath(path, os.getcwd()))
+    written = [
+        make_street(os.path.join(HERE, "street.gltf")),
+        # Thin fog, a point light close to the view rays: equi-angular sampling's home ground.
+        make_fog_bench(os.path.join(HERE, "bench_thin_near.gltf"), 0.03, 0.003, (0.6, 1.8, -6.0), 20.0),
+        # Dense fog, a distant light: free-flight sampling's home ground.
+        make_fog_bench(os.path.join(HERE, "bench_dense_far.gltf"), 0.25, 0.01, (4.0, 4.0, -12.0), 60.0),
+    ]
+    for path in written:
+        print(os.path.relpath(path, os.getcwd()))
 
 
 if __name__ == "__main__":

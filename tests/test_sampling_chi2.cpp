@@ -316,6 +316,22 @@ TEST_CASE("free-flight sampling matches its scatter density and pass probability
     CHECK(freeFlightPdfPass(Spectrum(1.0f), 0.0f) == Approx(1.0));
 }
 
+TEST_CASE("free-flight sampling in a dense medium, bins spaced geometrically", "[chi2][free_flight]") {
+    // σt = 8: bins from 1e-3 growing geometrically to 3 (plus [0, 1e-3]) resolve both the
+    // start of the exponential and its tail; explicit edges exercise the other overload.
+    const Spectrum sigmaT(8.0f);
+    std::vector<double> edges = {0.0};
+    for (int i = 0; i <= 30; ++i) edges.push_back(1e-3 * std::pow(3000.0, i / 30.0));
+    HistogramOptions opt;
+    opt.seed = 79;
+    opt.outsideProbability = freeFlightPdfPass(sigmaT, float(edges.back()));
+    HistogramResult r = intervalHistogramTest(
+        [&](Sample2 u) -> std::optional<double> { return double(sampleFreeFlight(sigmaT, u.u)); },
+        [&](double t) { return double(freeFlightPdfScatter(sigmaT, float(t))); }, edges, kSamples, opt);
+    checkHistogram("free flight, grey 8, geometric bins", r, kAlpha);
+    CHECK(r.pdfIntegral + opt.outsideProbability == Approx(1.0).epsilon(kIntegralTol));
+}
+
 // ---------------------------------------------------------------------------------------
 // GGX
 

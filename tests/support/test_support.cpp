@@ -534,8 +534,14 @@ HistogramResult sphereHistogramTest(const std::function<std::optional<Vec3>(Samp
 HistogramResult intervalHistogramTest(const std::function<std::optional<double>(Sample2)>& sampleFn,
                                       const std::function<double(double)>& pdfFn, double a, double b, int bins,
                                       long nSamples, const HistogramOptions& options) {
-    std::vector<double> edges = uniformEdges(bins, a, b);
+    return intervalHistogramTest(sampleFn, pdfFn, uniformEdges(bins, a, b), nSamples, options);
+}
+
+HistogramResult intervalHistogramTest(const std::function<std::optional<double>(Sample2)>& sampleFn,
+                                      const std::function<double(double)>& pdfFn, const std::vector<double>& edges,
+                                      long nSamples, const HistogramOptions& options) {
     checkEdges(edges, "intervalHistogramTest");
+    const int bins = int(edges.size()) - 1;
     takeIntegrationBudgetWarnings();
     std::vector<double> observed(size_t(bins), 0.0);
     long outside = 0, invalid = 0;

@@ -110,7 +110,12 @@ struct HistogramResult {
 };
 
 // Points (x, y) in [x edges] × [y edges] (increasing edge lists); pdf is the density per unit
-// of x·y. Bins are ordered row-major (x outer, y inner) for pooling.
+// of x·y. Bins are ordered row-major (x outer, y inner) for pooling. Each bin's probability
+// is integrate2D from a 17 × 17 grid; bins where the density was seen to be both zero and
+// non-zero (an edge of its support: a sliver of support may lie between grid points), or
+// where none was found but samples landed, are integrated again from a 65 × 65 grid in both
+// nesting orders, keeping the larger value (quadrature of a non-negative function can miss
+// mass but not invent it).
 HistogramResult histogram2DTest(const std::function<std::optional<std::pair<double, double>>(Sample2)>& sampleFn,
                                 const std::function<double(double, double)>& pdfFn, const std::vector<double>& xEdges,
                                 const std::vector<double>& yEdges, long nSamples, const HistogramOptions& options = {});
@@ -132,6 +137,11 @@ HistogramResult sphereHistogramTest(const std::function<std::optional<Vec3>(Samp
 // to the "outside" bin (see HistogramOptions::outsideProbability).
 HistogramResult intervalHistogramTest(const std::function<std::optional<double>(Sample2)>& sampleFn,
                                       const std::function<double(double)>& pdfFn, double a, double b, int bins,
+                                      long nSamples, const HistogramOptions& options = {});
+// The same with explicit, increasing bin edges (for peaked densities); [a, b] is
+// [edges.front(), edges.back()].
+HistogramResult intervalHistogramTest(const std::function<std::optional<double>(Sample2)>& sampleFn,
+                                      const std::function<double(double)>& pdfFn, const std::vector<double>& edges,
                                       long nSamples, const HistogramOptions& options = {});
 
 // ---------------------------------------------------------------------------------------

@@ -9,7 +9,8 @@ namespace brume {
 
 // p(cosθ) = (1−g²) / (4π (1+g²−2g cosθ)^1.5), normalised over the sphere.
 inline float hgPhase(float cosTheta, float g) {
-    float denom = 1.0f + g * g - 2.0f * g * cosTheta;
+    // 1 + g² − 2gμ written as (1−g)² + 2g(1−μ): no cancellation near the peak for g → 1.
+    float denom = (1.0f - g) * (1.0f - g) + 2.0f * g * (1.0f - cosTheta);
     return kInv4Pi * (1.0f - g * g) / (denom * std::sqrt(denom));
 }
 

@@ -151,6 +151,10 @@ def main():
         # Sphere light partly in view (test_pt_area_oracles).
         single("area_sphere.gltf", (0.8, 0.5, -3.0), radius=0.3),
         area_quad("area_quad.gltf"),
+        # Dense fog (mean free path 0.4 m, light 3 m away) and a light exactly on the central
+        # camera ray of an odd-sized image (D = 0 for equi-angular sampling).
+        single("single_dense.gltf", (0.3, 0.2, -3.0), scattering=2.0, absorption=0.5),
+        single("single_on_ray.gltf", (0.0, 0.0, -3.0)),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

@@ -136,6 +136,7 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --seed x", "--seed"},
         {data("empty.gltf") + " -o " + out + " --max-depth -2", "--max-depth"},
         {data("empty.gltf") + " -o " + out + " --integrator bdpt", "bdpt"},
+        {data("empty.gltf") + " -o " + out + " --connect sometimes", "sometimes"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
         {data("empty.gltf") + " -o " + quote(dir / "out"), "out"},
@@ -213,6 +214,17 @@ TEST_CASE("cli: .exr, .pfm and .png are written and read back", "[cli]") {
     for (size_t i = 0; i < pfm.size(); ++i) {
         float clamped = std::min(1.0f, std::max(0.0f, pfm[i]));
         REQUIRE(png[i] == Approx(clamped).margin(0.01 + 0.02 * clamped));
+    }
+}
+
+TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
+    TempDir dir;
+    for (const char* flags : {"--connect density", "--connect equiangular", "--connect mis", "--no-nee --max-depth 3"}) {
+        INFO(flags);
+        Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 0);
+        readBack(dir / "m.pfm", 16, 12);
     }
 }
 

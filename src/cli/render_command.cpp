@@ -29,6 +29,8 @@ const char* const kRenderUsage =
     "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
     "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
     "  --no-nee             no next-event estimation (BSDF/phase sampling only)\n"
+    "  --connect MODE       light connections on medium segments: density (from the\n"
+    "                       free-flight point), equiangular, or mis (both; the default)\n"
     "  --res WxH            image size (default 640 wide, height from the camera's aspect\n"
     "                       ratio, 640x480 without one)\n"
     "  --seed N             random seed (default 0); the same seed gives the same image\n"
@@ -49,6 +51,7 @@ struct RenderArgs {
     double seconds = 0;
     int maxDepth = -1;
     bool nee = true;
+    ConnectMode connect = ConnectMode::Mis;
     Resolution res;  // width 0: from the camera
     uint64_t seed = 0;
     int threads = 0;
@@ -80,6 +83,12 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
         } else if (name == "--no-nee") {
             args.noValue();
             a.nee = false;
+        } else if (name == "--connect") {
+            std::string mode = args.value();
+            if (mode == "density") a.connect = ConnectMode::Density;
+            else if (mode == "equiangular") a.connect = ConnectMode::EquiAngular;
+            else if (mode == "mis") a.connect = ConnectMode::Mis;
+            else throw UsageError("--connect: unknown mode '" + mode + "' (density, equiangular or mis)");
         } else if (name == "--res") {
             a.res = parseResolution(name, args.value());
         } else if (name == "--seed") {
@@ -134,6 +143,7 @@ int runRender(const std::vector<std::string>& argv) {
     PathTracerOptions ptOptions;
     ptOptions.maxDepth = a.maxDepth;
     ptOptions.nextEventEstimation = a.nee;
+    ptOptions.connect = a.connect;
     PathTracer integrator(ptOptions);
 
     RenderOptions options;

@@ -6,9 +6,14 @@ namespace brume {
 
 Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, int ignoreLight,
                             PathStats& stats) {
-    if (!scene.hasMedia()) {  // no media, no boundaries to pass: one occlusion query
+    if (!scene.hasInvisibleBoundaries()) {
+        // Nothing to pass through: one medium all the way, one occlusion query (skipped when
+        // the medium alone already absorbs everything, as over an infinite distance).
+        const Medium* m = scene.medium(media.current());
+        Spectrum T = m ? transmittance(m->sigmaT(), dist) : Spectrum(1.0f);
+        if (isBlack(T)) return T;
         ++stats.rays;
-        return scene.occluded(Ray{o, d, dist}, ignoreLight) ? Spectrum(0.0f) : Spectrum(1.0f);
+        return scene.occluded(Ray{o, d, dist}, ignoreLight) ? Spectrum(0.0f) : T;
     }
     Spectrum T(1.0f);
     float remaining = dist;

@@ -84,6 +84,9 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);
 
+    for (const Mesh& mesh : desc_.meshes)
+        if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible)
+            hasInvisibleBoundaries_ = true;
     cameraMedia_ = mediaAt(desc_.camera.position);
 }
 

@@ -52,6 +52,8 @@ public:
     const Material& material(int mesh) const { return desc_.materials[desc_.meshes[mesh].material]; }
     const Mesh& mesh(int index) const { return desc_.meshes[index]; }
     bool hasMedia() const { return !desc_.media.empty(); }
+    // True if some mesh is an invisible medium boundary that rays pass through.
+    bool hasInvisibleBoundaries() const { return hasInvisibleBoundaries_; }
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
 
@@ -75,7 +77,8 @@ private:
     std::vector<Light> lights_;
     std::vector<int> firstTriangleLight_;
     std::vector<int> sphereLights_;  // indices of sphere lights, intersected analytically
-    MediumStack cameraMedia_;  // per mesh, -1 if not emissive
+    MediumStack cameraMedia_;
+    bool hasInvisibleBoundaries_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

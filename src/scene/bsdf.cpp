@@ -106,12 +106,14 @@ bool Bsdf::sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out) const {
     }
     if (li.z <= 0) return false;
     Vec3 wi = frame_.toWorld(li * side);
-    if (dot(wi, ng_) * side <= 0) return false;
-    float pdf = pdfLocal(lo, li);
+    // Density and value through the same world-space path as pdf() and eval(), so that MIS
+    // sees identical numbers for a direction however it was found (a sharp GGX lobe turns
+    // float round-off in the frame change into per-mille differences otherwise).
+    float pdf = this->pdf(wo, wi);
     if (!(pdf > 0)) return false;
     out->wi = wi;
     out->pdf = pdf;
-    out->weight = evalLocal(lo, li) * (li.z / pdf);
+    out->weight = eval(wo, wi) / pdf;
     out->specular = false;
     out->transmitted = false;
     return true;

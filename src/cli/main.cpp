@@ -16,6 +16,7 @@ const char* const kUsage =
     "commands:\n"
     "  render SCENE -o OUT [options]   render a glTF scene to .exr, .pfm or .png\n"
     "  raybench SCENE [options]        path tracer rays/s against raw Embree; thread scaling\n"
+    "  bench SCENE --out DIR [options] equal-time error and efficiency of light-transport methods\n"
     "\n"
     "'brume COMMAND --help' describes a command's options.\n"
     "exit codes: 0 success, 1 scene/image/run-time error, 2 bad command line.\n";
@@ -43,7 +44,8 @@ int main(int argc, char** argv) {
         }
         if (command == "render") return runRender(args);
         if (command == "raybench") return runRaybench(args);
-        throw UsageError("unknown command '" + command + "' (commands: render, raybench; see brume --help)");
+        if (command == "bench") return runBench(args);
+        throw UsageError("unknown command '" + command + "' (commands: render, raybench, bench; see brume --help)");
     } catch (const UsageError& e) {
         reportError(e.what());
         return kExitUsage;

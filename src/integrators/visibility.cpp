@@ -38,3 +38,56 @@ Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, Medi
 }
 
 }  // namespace brume
+
+namespace brume {
+
+Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, bool aIsMedium,
+                         bool bIsMedium, int ignoreLight, PathStats& stats) {
+    Connection c;
+    // Per sub-segment (between invisible boundaries) in medium σt over length ℓ:
+    //   pass = avg_c e^(−σt,c ℓ), scatter = avg_c σt,c e^(−σt,c ℓ).
+    // The first sub-segment touches a, the last touches b.
+    Spectrum T(1.0f);
+    float toB = 1, toA = 1;
+    float remaining = dist;
+    bool first = true;
+    auto account = [&](const Medium* m, float len, bool last) {
+        if (!m) return;
+        Spectrum sigmaT = m->sigmaT();
+        T *= transmittance(sigmaT, len);
+        float pass = freeFlightPdfPass(sigmaT, len);
+        toB *= last && bIsMedium ? freeFlightPdfScatter(sigmaT, len) : pass;
+        toA *= first && aIsMedium ? freeFlightPdfScatter(sigmaT, len) : pass;
+    };
+    for (int crossings = 0; crossings < 64; ++crossings) {
+        ++stats.rays;
+        SurfaceHit hit = scene.intersect(Ray{o, d, remaining});
+        if (hit.sphereLight >= 0 && hit.sphereLight == ignoreLight) hit = SurfaceHit{};
+        const Medium* m = scene.medium(media.current());
+        if (!hit.valid()) {
+            account(m, remaining, true);
+            c.T = T;
+            c.freeFlightToB = toB;
+            c.freeFlightToA = toA;
+            return c;
+        }
+        if (hit.mesh < 0 || scene.material(hit.mesh).kind != MaterialKind::Invisible) return c;  // blocked
+        account(m, hit.t, false);
+        if (isBlack(T)) return c;
+        int interior = scene.mesh(hit.mesh).interiorMedium;
+        if (interior >= 0) media.toggle(interior);
+        float eps = rayEpsilon(hit.p);
+        o = hit.p + d * eps;
+        remaining -= hit.t + eps;
+        first = false;
+        if (!(remaining > 0)) {
+            c.T = T;
+            c.freeFlightToB = toB;
+            c.freeFlightToA = toA;
+            return c;
+        }
+    }
+    return c;
+}
+
+}  // namespace brume

@@ -69,7 +69,7 @@ float Bsdf::pdfLocal(Vec3 wo, Vec3 wi) const {
     return p;
 }
 
-bool Bsdf::sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out) const {
+bool Bsdf::sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out, TransportMode mode) const {
     float side = dot(wo, ng_) >= 0 ? 1.0f : -1.0f;
     if (kind_ == MaterialKind::Dielectric) {
         // Front side is outside; eta = ηt/ηi along the direction of travel from wo's side.
@@ -88,8 +88,8 @@ bool Bsdf::sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out) const {
             float sin2T = (1.0f - cosI * cosI) / (eta * eta);
             float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
             out->wi = normalize(-wo / eta + n * (cosI / eta - cosT));
-            // Radiance is compressed by (ηt/ηi)² crossing into the denser side.
-            out->weight = Spectrum(1.0f / (eta * eta));  // (1−F)/η² / (1−F)
+            // Radiance is compressed by (ηt/ηi)² crossing into the denser side; importance is not.
+            out->weight = Spectrum(mode == TransportMode::Radiance ? 1.0f / (eta * eta) : 1.0f);
             out->pdf = 1.0f - F;
             out->transmitted = true;
         }

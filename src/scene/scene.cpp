@@ -88,6 +88,28 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible)
             hasInvisibleBoundaries_ = true;
     cameraMedia_ = mediaAt(desc_.camera.position);
+
+    // Where light subpaths start. Without bounded media every light sits in the ambient one.
+    for (const Mesh& mesh : desc_.meshes) hasBoundedMedia_ |= mesh.interiorMedium >= 0;
+    if (hasBoundedMedia_) {
+        lightMedia_.resize(2 * lights_.size());
+        for (size_t i = 0; i < lights_.size(); ++i) {
+            const Light& l = lights_[i];
+            if (l.kind != LightKind::Triangle) {
+                lightMedia_[i] = lightMedia_[lights_.size() + i] = mediaAt(l.position);
+                continue;
+            }
+            const Mesh& mesh = desc_.meshes[l.mesh];
+            const uint32_t* idx = &mesh.indices[3 * l.triangle];
+            Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
+            Vec3 c = (p0 + p1 + p2) / 3.0f, n = cross(p1 - p0, p2 - p0);
+            float len = length(n);
+            n = len > 0 ? n / len : Vec3(0, 0, 1);
+            float eps = rayEpsilon(c);
+            lightMedia_[i] = mediaAt(c + n * eps);
+            lightMedia_[lights_.size() + i] = mediaAt(c - n * eps);
+        }
+    }
 }
 
 Scene::~Scene() {
@@ -196,6 +218,15 @@ Spectrum Scene::emission(const SurfaceHit& hit, Vec3 w) const {
     Spectrum L = m.emission;
     if (m.emissiveTexture >= 0) L *= desc_.textures[m.emissiveTexture].lookup(hit.u, hit.v);
     return L;
+}
+
+MediumStack Scene::lightMedia(int index, bool back) const {
+    if (!hasBoundedMedia_) {
+        MediumStack stack;
+        stack.ambient = desc_.ambientMedium;
+        return stack;
+    }
+    return lightMedia_[size_t(index) + (back ? lights_.size() : 0)];
 }
 
 MediumStack Scene::mediaAt(Vec3 p) const {

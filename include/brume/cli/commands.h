@@ -13,9 +13,11 @@ namespace brume::cli {
 
 extern const char* const kRenderUsage;
 extern const char* const kRaybenchUsage;
+extern const char* const kBenchUsage;
 
 int runRender(const std::vector<std::string>& args);
 int runRaybench(const std::vector<std::string>& args);
+int runBench(const std::vector<std::string>& args);
 
 // Shared by the commands (scene_setup.cpp): loads a glTF file (SceneError on failure).
 SceneDescription loadSceneDescription(const std::string& path);

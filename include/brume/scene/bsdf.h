@@ -8,6 +8,11 @@
 
 namespace brume {
 
+// Camera subpaths carry radiance, light subpaths importance; they differ at refraction
+// (radiance is scaled by 1/η² crossing an interface, importance is not) and with shading
+// normals (the adjoint BSDF; see shadingNormalCorrection).
+enum class TransportMode : unsigned char { Radiance, Importance };
+
 struct BsdfSample {
     Vec3 wi;
     Spectrum weight{0.0f};  // f·|cos θi| / pdf
@@ -25,7 +30,8 @@ public:
     Spectrum eval(Vec3 wo, Vec3 wi) const;
     float pdf(Vec3 wo, Vec3 wi) const;
     // uLobe picks the lobe (diffuse vs glossy, reflect vs refract), u the direction.
-    bool sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out) const;
+    bool sample(Vec3 wo, float uLobe, Sample2 u, BsdfSample* out,
+                TransportMode mode = TransportMode::Radiance) const;
 
 private:
     Spectrum evalLocal(Vec3 wo, Vec3 wi) const;
@@ -37,6 +43,13 @@ private:
     Vec3 ng_;
     Frame frame_;  // around the shading normal
 };
+
+// For importance transport with shading normals (Veach 1997, §5.3): the adjoint BSDF times
+// |wi·ns| equals f·|wi·ns| times |wo·ns|·|wi·ng| / (|wo·ng|·|wi·ns|); this returns that factor.
+inline float shadingNormalCorrection(Vec3 wo, Vec3 wi, Vec3 ng, Vec3 ns) {
+    float denom = std::abs(dot(wo, ng)) * std::abs(dot(wi, ns));
+    return denom > 0 ? std::abs(dot(wo, ns)) * std::abs(dot(wi, ng)) / denom : 0.0f;
+}
 
 // Fresnel reflectance of a smooth dielectric; cosI on the side of relative index eta.
 float fresnelDielectric(float cosI, float eta);

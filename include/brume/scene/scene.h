@@ -69,6 +69,9 @@ public:
     // The media at point p, by counting crossings of each medium boundary (odd = inside).
     MediumStack mediaAt(Vec3 p) const;
     const MediumStack& cameraMedia() const { return cameraMedia_; }
+    // The media around light `index` (for an emissive triangle, on its front side, or its
+    // back side when `back`), where light subpaths start.
+    MediumStack lightMedia(int index, bool back = false) const;
 
     RTCScene embreeScene() const { return rtcScene_; }
 
@@ -78,6 +81,8 @@ private:
     std::vector<int> firstTriangleLight_;
     std::vector<int> sphereLights_;  // indices of sphere lights, intersected analytically
     MediumStack cameraMedia_;
+    bool hasBoundedMedia_ = false;
+    std::vector<MediumStack> lightMedia_;  // per light: front side; then per light: back side
     bool hasInvisibleBoundaries_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;

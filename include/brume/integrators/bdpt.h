@@ -1,0 +1,28 @@
+// Bidirectional path tracing in participating media (`--integrator bdpt`): a camera subpath
+// and a light subpath, every (s, t) connection strategy, MIS over all of them with densities
+// that include the free-flight sampling in both directions. docs/mis.md derives the weights.
+#pragma once
+#include "brume/render/renderer.h"
+
+namespace brume {
+
+enum class MisHeuristic { Balance, Power };
+
+struct BdptOptions {
+    int maxDepth = -1;  // most scattering events on a full path; −1 = unlimited
+    MisHeuristic heuristic = MisHeuristic::Power;
+    // Debugging and tests: only the strategy (s, t) contributes, unweighted (s = −1: all, weighted).
+    int onlyS = -1, onlyT = -1;
+};
+
+class BdptIntegrator : public SplattingIntegrator {
+public:
+    explicit BdptIntegrator(BdptOptions options) : options_(options) {}
+    Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
+                              PathStats& stats, SplatList& splats) const override;
+
+private:
+    BdptOptions options_;
+};
+
+}  // namespace brume

@@ -1,0 +1,63 @@
+// A vertex of a camera or light subpath (bidirectional methods). Densities are in area
+// measure at the vertex, with no cosine at medium vertices, and include the free-flight
+// density of the event that made the vertex: σt·T for a scattering point in a medium, the
+// pass probability T for a surface beyond a medium (both averaged over the colour channels,
+// as free_flight.h samples them). pdfFwd is for the subpath's own direction; pdfRev for the
+// reverse, i.e. the density with which the other subpath's walk would have made this vertex.
+#pragma once
+#include "brume/math/vec3.h"
+#include "brume/scene/bsdf.h"
+#include "brume/scene/scene.h"
+
+namespace brume {
+
+enum class VertexKind : unsigned char { Camera, Light, Surface, Medium };
+
+struct PathVertex {
+    VertexKind kind = VertexKind::Surface;
+    bool delta = false;      // specular surface: no connection can be made at this vertex
+    bool deltaLight = false; // light vertex of a point, spot or directional light: no path can hit it
+    Vec3 p;
+    Vec3 ng, ns;             // surface: geometric (front side) and shading normal; light: emitting normal
+    Vec3 wo;                 // unit, towards the previous vertex of its subpath
+    float u = 0, v = 0;      // surface texture coordinates
+    int mesh = -1, triangle = -1;
+    int light = -1;          // light vertex, or a surface vertex on an emitter (index into lights())
+    const Medium* medium = nullptr;  // medium vertex
+    MediumStack media;       // the media where the vertex was reached (the incoming side of a surface)
+    Spectrum beta{1.0f};     // subpath throughput up to and including this vertex
+    float pdfFwd = 0;        // area density of making this vertex from the previous one
+    float pdfRev = 0;        // area density of making it from the next one
+    // The edge from the previous vertex to this one: its length and the free-flight density
+    // of the reverse walk's event at the previous vertex (see random_walk.cpp).
+    float edgeDist = 0;
+    float edgeFwdFreeFlight = 1;
+    float edgeRevFreeFlight = 1;
+
+    bool isSurface() const { return kind == VertexKind::Surface; }
+    bool isMedium() const { return kind == VertexKind::Medium; }
+};
+
+// Solid-angle density at another vertex → area density at `to`, a distance d away in unit
+// direction w (seen from `to`): |cos| at a surface or area-light vertex, none in a medium or
+// at a point.
+inline float solidAngleToArea(const PathVertex& to, Vec3 w, float pdfDir, float d) {
+    float g = 1.0f / (d * d);
+    if (to.kind == VertexKind::Surface || (to.kind == VertexKind::Light && dot(to.ng, to.ng) > 0))
+        g *= std::abs(dot(to.ng, w));
+    return pdfDir * g;
+}
+
+}  // namespace brume
+
+namespace brume {
+
+// The BSDF of a surface vertex (base colour texture applied).
+inline Bsdf vertexBsdf(const Scene& scene, const PathVertex& v) {
+    const Material& m = scene.material(v.mesh);
+    Spectrum base = m.baseColor;
+    if (m.baseColorTexture >= 0) base *= scene.desc().textures[m.baseColorTexture].lookup(v.u, v.v);
+    return Bsdf(m, base, v.ng, v.ns);
+}
+
+}  // namespace brume

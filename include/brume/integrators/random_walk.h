@@ -1,0 +1,24 @@
+// Extends a camera or light subpath by free-flight and BSDF/phase sampling, recording each
+// vertex with its forward and reverse area densities (path_vertex.h).
+#pragma once
+#include "brume/integrators/integrator.h"
+#include "brume/integrators/path_vertex.h"
+
+namespace brume {
+
+struct WalkStart {
+    Ray ray;             // leaving path[0]
+    MediumStack media;   // media the ray starts in
+    Spectrum beta;       // throughput after path[0] and the direction choice
+    float pdfDir = 0;    // solid-angle density of ray.d at path[0]
+};
+
+// path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],
+// at most maxVertices − 1 of them and at most maxScatter scattering ones (surfaces that are
+// not invisible boundaries, and medium points); stops at an escape, a sphere light, a black
+// throughput or Russian roulette (from the fourth vertex on). Returns the vertex count,
+// path[0] included.
+int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+               PathVertex* path, int maxVertices, PathStats& stats);
+
+}  // namespace brume

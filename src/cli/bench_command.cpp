@@ -1,0 +1,577 @@
+// brume bench SCENE --out DIR: equal-time comparison of light-transport methods. Every
+// method renders the scene from scratch for each time budget (whole passes until the budget
+// is spent, one fixed seed); each image is compared with a reference (given, or rendered
+// once with pt:mis at many spp and cached in DIR) and the errors, the measured seconds and
+// the efficiency 1 / (relMSE · seconds) go to DIR/results.csv and to stdout.
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "brume/cli/commands.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/render/film.h"
+#include "brume/render/image_io.h"
+#include "brume/render/renderer.h"
+
+namespace brume::cli {
+
+const char* const kBenchUsage =
+    "usage: brume bench SCENE --out DIR [options]\n"
+    "\n"
+    "Equal-time comparison of light-transport methods. Each method renders SCENE from\n"
+    "scratch for each time budget (whole passes until the budget is spent, fixed seed) and\n"
+    "is compared with a reference image r:\n"
+    "  rel_mse    = mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)\n"
+    "  rmse       = sqrt(mean (x - r)^2)\n"
+    "  efficiency = 1 / (rel_mse * seconds), seconds as measured\n"
+    "Writes DIR/results.csv (the table also goes to stdout) and each method's image at the\n"
+    "largest budget as DIR/<method>.exr (':' becomes '_').\n"
+    "\n"
+    "options:\n"
+    "  -o, --out DIR        output directory, created if missing (required)\n"
+    "  --methods LIST       comma-separated methods (default: the pt methods); see below\n"
+    "  --budgets LIST       comma-separated time budgets in seconds (default 1,2,4)\n"
+    "  --reference FILE     reference image (.exr or .pfm) of the benchmark's size; without\n"
+    "                       it one is rendered with pt:mis (seed 24301), cached as\n"
+    "                       DIR/reference.exr + DIR/reference.json and reused while the\n"
+    "                       scene, the size and the spp match\n"
+    "  --reference-spp N    spp of the rendered reference (default 1024)\n"
+    "  --res WxH            image size (default 160x120)\n"
+    "  --seed N             seed of the benchmark renders (default 1)\n"
+    "  --threads N          worker threads (default: all hardware threads)\n"
+    "  -h, --help           this text\n"
+    "\n"
+    "Ctrl-C stops after the current pass; no results.csv is written (exit code 130).\n";
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------
+// The methods. Adding one is adding a line to kMethods.
+
+std::unique_ptr<Integrator> pathTracer(ConnectMode connect) {
+    PathTracerOptions options;
+    options.connect = connect;
+    return std::make_unique<PathTracer>(options);
+}
+
+struct BenchMethod {
+    const char* name;
+    bool byDefault;  // part of the default --methods list
+    const char* what;
+    std::unique_ptr<Integrator> (*make)();
+};
+
+const BenchMethod kMethods[] = {
+    {"pt:density", true, "path tracer, light connections from the free-flight point",
+     [] { return pathTracer(ConnectMode::Density); }},
+    {"pt:equiangular", true, "path tracer, equi-angular light connections",
+     [] { return pathTracer(ConnectMode::EquiAngular); }},
+    {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling",
+     [] { return pathTracer(ConnectMode::Mis); }},
+};
+
+constexpr const char* kReferenceMethod = "pt:mis";
+constexpr uint64_t kReferenceSeed = 0x5EED;
+constexpr double kRelMseEpsilon = 1e-2;
+
+const BenchMethod* findMethod(const std::string& name) {
+    for (const BenchMethod& m : kMethods)
+        if (name == m.name) return &m;
+    return nullptr;
+}
+
+std::string methodNames() {
+    std::string names;
+    for (const BenchMethod& m : kMethods) names += (names.empty() ? "" : ", ") + std::string(m.name);
+    return names;
+}
+
+// "pt:mis" → "pt_mis": the method's image file name without extension.
+std::string methodFileStem(const std::string& name) {
+    std::string stem = name;
+    std::replace(stem.begin(), stem.end(), ':', '_');
+    return stem;
+}
+
+// ---------------------------------------------------------------------------------------
+// Arguments
+
+struct BenchArgs {
+    std::string scene;
+    std::string outDir;
+    std::string reference;  // empty: render (or reuse) one
+    std::vector<const BenchMethod*> methods;
+    std::vector<double> budgets;
+    Resolution res{160, 120};
+    uint64_t seed = 1;
+    bool seedGiven = false;
+    int referenceSpp = 1024;
+    bool referenceSppGiven = false;
+    int threads = 0;
+    bool help = false;
+};
+
+std::vector<std::string> splitList(const std::string& what, const std::string& text) {
+    std::vector<std::string> items;
+    size_t start = 0;
+    for (;;) {
+        size_t comma = text.find(',', start);
+        std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (item.empty()) throw UsageError(what + ": empty item in '" + text + "'");
+        items.push_back(item);
+        if (comma == std::string::npos) return items;
+        start = comma + 1;
+    }
+}
+
+BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
+    BenchArgs a;
+    bool methodsGiven = false, budgetsGiven = false;
+    ArgScanner args(argv);
+    while (args.next()) {
+        const std::string& name = args.current();
+        if (!args.isOption()) {
+            if (!a.scene.empty()) throw UsageError("more than one scene given ('" + a.scene + "', '" + name + "')");
+            a.scene = name;
+        } else if (name == "-h" || name == "--help") {
+            a.help = true;
+        } else if (name == "-o" || name == "--out") {
+            a.outDir = args.value();
+            if (a.outDir.empty()) throw UsageError(name + ": empty directory name");
+        } else if (name == "--methods") {
+            a.methods.clear();
+            for (const std::string& item : splitList(name, args.value())) {
+                const BenchMethod* m = findMethod(item);
+                if (!m) throw UsageError(name + ": unknown method '" + item + "' (available: " + methodNames() + ")");
+                if (std::find(a.methods.begin(), a.methods.end(), m) != a.methods.end())
+                    throw UsageError(name + ": method '" + item + "' given twice");
+                a.methods.push_back(m);
+            }
+            methodsGiven = true;
+        } else if (name == "--budgets") {
+            a.budgets.clear();
+            for (const std::string& item : splitList(name, args.value())) {
+                double seconds = parsePositiveSeconds(name, item, 1e6);
+                if (std::find(a.budgets.begin(), a.budgets.end(), seconds) != a.budgets.end())
+                    throw UsageError(name + ": budget " + item + " given twice");
+                a.budgets.push_back(seconds);
+            }
+            budgetsGiven = true;
+        } else if (name == "--reference") {
+            a.reference = args.value();
+            if (a.reference.empty()) throw UsageError(name + ": empty file name");
+        } else if (name == "--reference-spp") {
+            a.referenceSpp = int(parseInteger(name, args.value(), 1, 1 << 24));
+            a.referenceSppGiven = true;
+        } else if (name == "--res") {
+            a.res = parseResolution(name, args.value());
+        } else if (name == "--seed") {
+            a.seed = parseUnsigned64(name, args.value());
+            a.seedGiven = true;
+        } else if (name == "--threads") {
+            a.threads = int(parseInteger(name, args.value(), 1, 1024));
+        } else {
+            args.unknown();
+        }
+    }
+    if (a.help) return a;
+    if (a.scene.empty()) throw UsageError("bench: no scene file given");
+    if (a.outDir.empty()) throw UsageError("bench: no output directory given (--out DIR)");
+    if (!methodsGiven)
+        for (const BenchMethod& m : kMethods)
+            if (m.byDefault) a.methods.push_back(&m);
+    if (!budgetsGiven) a.budgets = {1, 2, 4};
+    if (!a.reference.empty()) {
+        if (a.referenceSppGiven) throw UsageError("--reference and --reference-spp exclude each other");
+        ImageFormat format;
+        try {
+            format = imageFormatFor(a.reference);
+        } catch (const std::invalid_argument&) {
+            format = ImageFormat::Png;
+        }
+        if (format == ImageFormat::Png)
+            throw UsageError("--reference: " + a.reference + ": must be an .exr or .pfm image");
+    } else if (a.seed == kReferenceSeed) {
+        throw UsageError("--seed: " + std::to_string(a.seed) + " is the seed of the rendered reference; pick another");
+    }
+    return a;
+}
+
+// ---------------------------------------------------------------------------------------
+// Files
+
+std::string readTextFile(const std::string& path, bool* ok) {
+    std::ifstream in(path, std::ios::binary);
+    *ok = bool(in);
+    if (!in) return {};
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    *ok = !in.bad();
+    return text;
+}
+
+// Written beside `path` and renamed into place, like the images.
+void writeTextFile(const std::string& path, const std::string& text) {
+    std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (out) out << text;
+        out.flush();
+        if (!out) {
+            int err = errno;
+            std::error_code ec;
+            fs::remove(tmp, ec);
+            throw std::runtime_error(path + ": cannot write: " + std::strerror(err));
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        int err = errno;
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw std::runtime_error(path + ": cannot write: " + std::strerror(err));
+    }
+}
+
+// FNV-1a over the scene file's bytes, so a regenerated scene at the same path does not reuse
+// a stale reference. (Buffers in separate files are not covered; the bundled scenes embed
+// theirs.)
+std::string fileHash(const std::string& path) {
+    bool ok = false;
+    std::string bytes = readTextFile(path, &ok);
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ull;
+    }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    return text;
+}
+
+std::string jsonString(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += char(c);
+        } else if (c < 0x20) {
+            char esc[8];
+            std::snprintf(esc, sizeof esc, "\\u%04x", c);
+            out += esc;
+        } else {
+            out += char(c);
+        }
+    }
+    return out + "\"";
+}
+
+// What a cached reference was rendered from: one "key": value pair per line of
+// reference.json. Values are kept as JSON text; a cache matches when every field does.
+using Record = std::vector<std::pair<std::string, std::string>>;
+
+Record referenceRecord(const std::string& scenePath, Resolution res, int spp) {
+    std::error_code ec;
+    fs::path absolute = fs::weakly_canonical(fs::absolute(scenePath), ec);
+    if (ec) absolute = fs::absolute(scenePath).lexically_normal();
+    return {
+        {"scene", jsonString(absolute.string())},
+        {"scene_fnv1a64", jsonString(fileHash(scenePath))},
+        {"width", std::to_string(res.width)},
+        {"height", std::to_string(res.height)},
+        {"spp", std::to_string(spp)},
+        {"seed", std::to_string(kReferenceSeed)},
+        {"method", jsonString(kReferenceMethod)},
+    };
+}
+
+std::string recordText(const Record& record) {
+    std::string text = "{\n";
+    for (size_t i = 0; i < record.size(); ++i)
+        text += "  " + jsonString(record[i].first) + ": " + record[i].second + (i + 1 < record.size() ? ",\n" : "\n");
+    return text + "}\n";
+}
+
+// Reads back what recordText() writes (nothing more general).
+std::map<std::string, std::string> parseRecord(const std::string& text) {
+    std::map<std::string, std::string> fields;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        size_t open = line.find('"');
+        size_t close = open == std::string::npos ? open : line.find('"', open + 1);
+        if (close == std::string::npos) continue;
+        size_t colon = line.find(':', close);
+        if (colon == std::string::npos) continue;
+        std::string value = line.substr(colon + 1);
+        while (!value.empty() && (value.back() == ',' || value.back() == ' ' || value.back() == '\r')) value.pop_back();
+        size_t first = value.find_first_not_of(' ');
+        fields[line.substr(open + 1, close - open - 1)] = first == std::string::npos ? "" : value.substr(first);
+    }
+    return fields;
+}
+
+// Why a cached reference does not fit (empty when it does).
+std::string cacheMismatch(const std::string& cachedText, const Record& wanted) {
+    std::map<std::string, std::string> cached = parseRecord(cachedText);
+    for (const auto& [key, value] : wanted) {
+        auto it = cached.find(key);
+        if (it == cached.end()) return "reference.json has no " + key;
+        if (it->second != value) {
+            if (key == "scene_fnv1a64") return "the scene file changed";
+            if (key == "width" || key == "height") return "different resolution";
+            return "different " + key;
+        }
+    }
+    return {};
+}
+
+// ---------------------------------------------------------------------------------------
+// Rendering and error
+
+std::atomic<bool> gBenchInterrupted{false};
+
+extern "C" void onBenchInterrupt(int) { gBenchInterrupted.store(true); }
+
+void catchBenchInterrupt() {
+    struct sigaction sa {};
+    sa.sa_handler = onBenchInterrupt;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, nullptr);
+}
+
+struct Metrics {
+    double relMse = 0, rmse = 0;
+};
+
+Metrics compareImages(const std::vector<float>& image, const std::vector<float>& reference) {
+    double rel = 0, squared = 0;
+    for (size_t i = 0; i < image.size(); ++i) {
+        double r = reference[i];
+        double d = double(image[i]) - r;
+        rel += d * d / (r * r + kRelMseEpsilon);
+        squared += d * d;
+    }
+    double n = double(std::max<size_t>(image.size(), 1));
+    return {rel / n, std::sqrt(squared / n)};
+}
+
+struct Row {
+    const BenchMethod* method;
+    double budget;
+    double seconds;
+    int spp;
+    Metrics error;
+    double efficiency;
+};
+
+std::string csvField(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string format(const char* fmt, double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char text[64];
+    std::snprintf(text, sizeof text, fmt, v);
+    return text;
+}
+
+std::string budgetList(const std::vector<double>& budgets) {
+    std::string text;
+    for (double b : budgets) text += (text.empty() ? "" : ",") + format("%g", b);
+    return text;
+}
+
+std::vector<float> readReferenceFile(const std::string& path, Resolution res) {
+    int w = 0, h = 0;
+    std::vector<float> rgb = readImage(path, &w, &h);
+    if (w != res.width || h != res.height)
+        throw std::runtime_error(path + ": reference is " + std::to_string(w) + "x" + std::to_string(h) +
+                                 ", the benchmark renders " + std::to_string(res.width) + "x" +
+                                 std::to_string(res.height) + " (pass --res " + std::to_string(w) + "x" +
+                                 std::to_string(h) + ")");
+    for (float v : rgb)
+        if (!std::isfinite(v)) throw std::runtime_error(path + ": reference has non-finite pixels");
+    return rgb;
+}
+
+}  // namespace
+
+int runBench(const std::vector<std::string>& argv) {
+    BenchArgs a = parseBenchArgs(argv);
+    if (a.help) {
+        std::fputs(kBenchUsage, stdout);
+        std::fputs("\nmethods:\n", stdout);
+        for (const BenchMethod& m : kMethods)
+            std::printf("  %-18s %s%s\n", m.name, m.what, m.byDefault ? "" : " (not by default)");
+        return kExitOk;
+    }
+
+    // Everything that can fail is checked before the first render.
+    Scene scene(loadSceneDescription(a.scene));
+    const Resolution res = a.res;
+    std::vector<float> reference;
+    if (!a.reference.empty()) reference = readReferenceFile(a.reference, res);
+
+    const fs::path dir(a.outDir);
+    {
+        std::error_code ec;
+        if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+            throw std::runtime_error(a.outDir + ": exists and is not a directory");
+        fs::create_directories(dir, ec);
+        if (ec) throw std::runtime_error(a.outDir + ": cannot create directory: " + ec.message());
+    }
+    const std::string referencePath = (dir / "reference.exr").string();
+    const std::string recordPath = (dir / "reference.json").string();
+    const std::string csvPath = (dir / "results.csv").string();
+    checkImageWritable(referencePath);
+
+    const int threads = a.threads > 0 ? a.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const std::string sceneLabel = fs::path(a.scene).stem().string();
+    std::printf("brume bench: %s, %dx%d, budgets %s s, seed %llu, %d threads\n", a.scene.c_str(), res.width,
+                res.height, budgetList(a.budgets).c_str(), static_cast<unsigned long long>(a.seed), threads);
+    std::fflush(stdout);
+
+    catchBenchInterrupt();
+    auto interrupted = [] {
+        if (!gBenchInterrupted.load()) return false;
+        std::fputs("brume: interrupted; no results.csv written\n", stderr);
+        return true;
+    };
+
+    // The reference.
+    if (!a.reference.empty()) {
+        std::printf("reference: %s (given)\n", a.reference.c_str());
+    } else {
+        Record wanted = referenceRecord(a.scene, res, a.referenceSpp);
+        bool haveRecord = false;
+        std::string cachedText = readTextFile(recordPath, &haveRecord);
+        std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";
+        if (why.empty()) {
+            try {
+                reference = readReferenceFile(referencePath, res);
+            } catch (const std::runtime_error&) {
+                why = "cached reference.exr unreadable";
+            }
+        }
+        char what[128];
+        std::snprintf(what, sizeof what, "%s, %d spp, seed %llu", kReferenceMethod, a.referenceSpp,
+                      static_cast<unsigned long long>(kReferenceSeed));
+        if (why.empty()) {
+            std::printf("reference: reused %s (%s)\n", referencePath.c_str(), what);
+        } else {
+            std::printf("reference: rendering %s (%s; %s) ...\n", referencePath.c_str(), what, why.c_str());
+            std::fflush(stdout);
+            std::error_code ec;
+            fs::remove(recordPath, ec);  // never a record beside an image it does not describe
+            std::unique_ptr<Integrator> integrator = findMethod(kReferenceMethod)->make();
+            RenderOptions options;
+            options.width = res.width;
+            options.height = res.height;
+            options.spp = a.referenceSpp;
+            options.seed = kReferenceSeed;
+            options.threads = a.threads;
+            options.progress = ::isatty(2) != 0;
+            Film film(res.width, res.height);
+            RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
+            if (interrupted()) return kExitInterrupted;
+            reference = film.rgb();
+            writeImage(referencePath, res.width, res.height, reference);
+            writeTextFile(recordPath, recordText(wanted));
+            std::printf("reference: rendered in %.2f s, cached in %s\n", stats.seconds, recordPath.c_str());
+        }
+    }
+    std::printf("error: rel_mse = mean over pixels and channels of (x - r)^2 / (r^2 + 0.01); "
+                "rmse = sqrt(mean (x - r)^2); efficiency = 1 / (rel_mse * seconds)\n\n");
+
+    // The table, printed row by row as the renders finish. Budgets outermost, so that the
+    // methods of one budget run close together in time (and under similar machine load).
+    size_t methodWidth = 6, sceneWidth = std::max<size_t>(5, sceneLabel.size());
+    for (const BenchMethod* m : a.methods) methodWidth = std::max(methodWidth, std::strlen(m->name));
+    const int mw = int(methodWidth), sw = int(sceneWidth);
+    std::printf("%-*s  %-*s  %8s  %8s  %6s  %11s  %11s  %11s\n", sw, "scene", mw, "method", "budget_s", "seconds",
+                "spp", "rel_mse", "rmse", "efficiency");
+    std::fflush(stdout);
+
+    const double largest = *std::max_element(a.budgets.begin(), a.budgets.end());
+    std::vector<Row> rows;
+    std::vector<std::string> imagesWritten;
+    for (double budget : a.budgets) {
+        for (const BenchMethod* method : a.methods) {
+            std::unique_ptr<Integrator> integrator = method->make();
+            RenderOptions options;
+            options.width = res.width;
+            options.height = res.height;
+            options.timeBudget = budget;
+            options.seed = a.seed;
+            options.threads = a.threads;
+            Film film(res.width, res.height);
+            RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
+            if (interrupted()) return kExitInterrupted;
+            std::vector<float> image = film.rgb();
+            Row row{method, budget, stats.seconds, stats.passes, compareImages(image, reference), 0};
+            double cost = row.error.relMse * row.seconds;
+            row.efficiency = cost > 0 ? 1 / cost : HUGE_VAL;
+            rows.push_back(row);
+            std::printf("%-*s  %-*s  %8s  %8.3f  %6d  %11.4e  %11.4e  %11s\n", sw, sceneLabel.c_str(), mw,
+                        method->name, format("%g", budget).c_str(), row.seconds, row.spp, row.error.relMse,
+                        row.error.rmse, format("%.4g", row.efficiency).c_str());
+            std::fflush(stdout);
+            if (budget == largest) {
+                std::string path = (dir / (methodFileStem(method->name) + ".exr")).string();
+                writeImage(path, res.width, res.height, image);
+                imagesWritten.push_back(path);
+            }
+        }
+    }
+
+    std::string csv = "scene,method,budget_s,seconds,spp,rel_mse,rmse,efficiency\n";
+    for (const Row& r : rows)
+        csv += csvField(sceneLabel) + "," + r.method->name + "," + format("%g", r.budget) + "," +
+               format("%.6f", r.seconds) + "," + std::to_string(r.spp) + "," + format("%.6e", r.error.relMse) + "," +
+               format("%.6e", r.error.rmse) + "," + format("%.6g", r.efficiency) + "\n";
+    writeTextFile(csvPath, csv);
+
+    // Efficiency relative to the first method, per budget.
+    std::printf("\nefficiency relative to %s (higher is better):\n", a.methods.front()->name);
+    std::printf("%8s", "budget_s");
+    for (const BenchMethod* m : a.methods) std::printf("  %*s", std::max(mw, 8), m->name);
+    std::printf("\n");
+    for (size_t b = 0; b < a.budgets.size(); ++b) {
+        std::printf("%8s", format("%g", a.budgets[b]).c_str());
+        const size_t n = a.methods.size();
+        double base = rows[b * n].efficiency;
+        for (size_t i = 0; i < n; ++i)
+            std::printf("  %*s", std::max(mw, 8), format("%.3f", rows[b * n + i].efficiency / base).c_str());
+        std::printf("\n");
+    }
+    std::printf("\nwrote %s", csvPath.c_str());
+    for (const std::string& p : imagesWritten) std::printf(", %s", p.c_str());
+    std::printf("\n");
+    std::fflush(stdout);
+    signal(SIGINT, SIG_DFL);
+    return kExitOk;
+}
+
+}  // namespace brume::cli

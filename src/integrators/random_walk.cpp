@@ -1,0 +1,128 @@
+#include "brume/integrators/random_walk.h"
+
+#include "brume/sampling/free_flight.h"
+#include "brume/sampling/hg.h"
+
+namespace brume {
+
+// Free-flight densities along an edge prev → next that may cross invisible boundaries into
+// other media (sub-segments k = 1..n):
+//   forward  = Π_{k<n} P_pass,k · (next is a medium point ? p_scatter,n : P_pass,n)
+//   reverse  = Π_{k>1} P_pass,k · (prev is a medium point ? p_scatter,1 : P_pass,1)
+// the reverse being the density with which a walk from next back to prev would stop at prev.
+int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+               PathVertex* path, int maxVertices, PathStats& stats) {
+    Ray ray = start.ray;
+    MediumStack media = start.media;
+    Spectrum beta = start.beta;
+    float pdfDir = start.pdfDir;
+    int count = 1, scatters = 0;
+    while (count < maxVertices && scatters < maxScatter) {
+        PathVertex& prev = path[count - 1];
+        PathVertex& v = path[count];
+        v = PathVertex{};
+        float fwdFF = 1, revFF = 1, dist = 0;
+        bool firstSub = true, made = false;
+        for (int crossings = 0; crossings < 64 && !made; ++crossings) {
+            ++stats.rays;
+            SurfaceHit hit = scene.intersect(ray);
+            float tSurf = hit.valid() ? hit.t : kInfinity;
+            const Medium* m = scene.medium(media.current());
+            if (m) {
+                Spectrum sigmaT = m->sigmaT();
+                float t = sampleFreeFlight(sigmaT, sampler.next1D());
+                if (t < tSurf) {
+                    float pScatter = freeFlightPdfScatter(sigmaT, t);
+                    beta *= transmittance(sigmaT, t) * m->sigmaS / pScatter;
+                    fwdFF *= pScatter;
+                    revFF *= firstSub && prev.isMedium() ? pScatter : freeFlightPdfPass(sigmaT, t);
+                    dist += t;
+                    v.kind = VertexKind::Medium;
+                    v.p = ray.at(t);
+                    v.medium = m;
+                    made = true;
+                    break;
+                }
+                if (std::isinf(tSurf)) return count;
+                float pPass = freeFlightPdfPass(sigmaT, tSurf);
+                beta *= transmittance(sigmaT, tSurf) / pPass;
+                fwdFF *= pPass;
+                revFF *= firstSub && prev.isMedium() ? freeFlightPdfScatter(sigmaT, tSurf) : pPass;
+            }
+            if (!hit.valid()) return count;
+            dist += hit.t;
+            if (hit.mesh >= 0 && scene.material(hit.mesh).kind == MaterialKind::Invisible) {
+                int interior = scene.mesh(hit.mesh).interiorMedium;
+                if (interior >= 0) media.toggle(interior);
+                float eps = rayEpsilon(hit.p);
+                ray.o = hit.p + ray.d * eps;
+                dist += eps;
+                firstSub = false;
+                continue;
+            }
+            v.kind = VertexKind::Surface;
+            v.p = hit.p;
+            v.ng = hit.ng;
+            v.ns = hit.ns;
+            v.u = hit.u;
+            v.v = hit.v;
+            v.mesh = hit.mesh;
+            v.triangle = hit.triangle;
+            v.light = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
+            made = true;
+        }
+        if (!made) return count;
+        if (!isFinite(beta) || isBlack(beta)) return count;
+
+        v.wo = -ray.d;
+        v.media = media;
+        v.beta = beta;
+        v.edgeDist = dist;
+        v.edgeFwdFreeFlight = fwdFF;
+        v.edgeRevFreeFlight = revFF;
+        v.pdfFwd = solidAngleToArea(v, v.wo, pdfDir, dist) * fwdFF;
+        ++count;
+        ++scatters;
+        if (v.isSurface() && v.mesh < 0) break;  // a sphere light: an opaque emitter
+        if (count >= maxVertices || scatters >= maxScatter) break;
+
+        // Sample the continuation; its reverse density completes prev.pdfRev.
+        Vec3 wi;
+        float pdfFwdDir, pdfRevDir;
+        if (v.isMedium()) {
+            wi = sampleHG(ray.d, v.medium->g, sampler.next2D());  // phase/pdf = 1
+            pdfFwdDir = pdfRevDir = hgPhase(dot(ray.d, wi), v.medium->g);
+        } else {
+            Bsdf bsdf = vertexBsdf(scene, v);
+            float uLobe = sampler.next1D();
+            BsdfSample bs;
+            if (!bsdf.sample(v.wo, uLobe, sampler.next2D(), &bs, mode)) return count;
+            wi = bs.wi;
+            Spectrum w = bs.weight;
+            if (mode == TransportMode::Importance) w *= shadingNormalCorrection(v.wo, wi, v.ng, v.ns);
+            beta *= w;
+            if (bs.specular) {
+                v.delta = true;
+                pdfFwdDir = pdfRevDir = 0;  // delta densities never enter the MIS weights
+            } else {
+                pdfFwdDir = bs.pdf;
+                pdfRevDir = bsdf.pdf(wi, v.wo);
+            }
+            if (bs.transmitted && scene.mesh(v.mesh).interiorMedium >= 0) media.toggle(scene.mesh(v.mesh).interiorMedium);
+        }
+        prev.pdfRev = solidAngleToArea(prev, ray.d, pdfRevDir, dist) * revFF;
+        if (!isFinite(beta) || isBlack(beta)) return count;
+
+        // Russian roulette from the fourth vertex: survive with min(0.95, max β).
+        if (count >= 4) {
+            float survive = std::min(0.95f, maxComponent(beta));
+            if (sampler.next1D() >= survive) return count;
+            beta /= survive;
+        }
+        ray = Ray{v.isSurface() ? v.p + (dot(v.ng, wi) >= 0 ? v.ng : -v.ng) * rayEpsilon(v.p) : v.p, wi, kInfinity};
+        pdfDir = pdfFwdDir;
+    }
+    return count;
+}
+
+}  // namespace brume

@@ -1,0 +1,167 @@
+#include "brume/scene/camera_importance.h"
+
+#include <cmath>
+#include <limits>
+
+namespace brume {
+
+namespace {
+
+// Film extents on the plane at distance 1, computed with the same float operations as
+// Camera::generateRay (so that its edge rays project exactly onto the film edges), then
+// carried in double.
+struct FilmPlane {
+    double tanX = 0, tanY = 0, area = 0;
+    bool valid = false;
+};
+
+FilmPlane filmPlane(const Camera& cam, int width, int height) {
+    FilmPlane f;
+    if (width <= 0 || height <= 0) return f;
+    float tanY = std::tan(0.5f * cam.yfov);
+    float tanX = tanY * float(width) / float(height);
+    f.tanX = tanX;
+    f.tanY = tanY;
+    f.area = 4.0 * f.tanX * f.tanY;
+    f.valid = tanX > 0 && tanY > 0 && std::isfinite(f.area) && f.area > 0;
+    return f;
+}
+
+double dotD(Vec3 a, Vec3 b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
+
+// Camera-space components of a vector v (not necessarily unit): x along right, y along up,
+// z along forward.
+struct Local {
+    double x, y, z;
+};
+Local toCamera(const Camera& cam, Vec3 v) { return {dotD(v, cam.right), dotD(v, cam.up), dotD(v, cam.forward)}; }
+
+// Film position of the direction v (any length), if it lies in front of the camera and lands
+// in [0, width) × [0, height). The test is made on the float values returned, so that every
+// accepted position is accepted by SplatList::splat as well.
+bool projectToFilm(const FilmPlane& film, Local v, int width, int height, float* fx, float* fy) {
+    if (!film.valid || !(v.z > 0)) return false;
+    double sx = v.x / v.z, sy = v.y / v.z;
+    float px = float((sx / film.tanX + 1.0) * 0.5 * double(width));
+    float py = float((1.0 - sy / film.tanY) * 0.5 * double(height));
+    if (!(px >= 0 && px < float(width) && py >= 0 && py < float(height))) return false;
+    *fx = px;
+    *fy = py;
+    return true;
+}
+
+// cosθ of the direction v with respect to forward, 0 if undefined.
+double cosTheta(Local v) {
+    double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+    return len > 0 && std::isfinite(len) ? v.z / len : 0.0;
+}
+
+// 1 / (A cos^k θ) for a direction already known to land on the film.
+float inverseAreaCosPow(const FilmPlane& film, double cos, int k) {
+    double c = cos;
+    double ck = k == 4 ? (c * c) * (c * c) : (c * c) * c;
+    return float(1.0 / (film.area * ck));
+}
+
+float filmDensity(const Camera& cam, Vec3 w, int width, int height, int cosPower) {
+    FilmPlane film = filmPlane(cam, width, height);
+    Local v = toCamera(cam, w);
+    float fx, fy;
+    if (!projectToFilm(film, v, width, height, &fx, &fy)) return 0.0f;
+    double c = cosTheta(v);
+    if (!(c > 0)) return 0.0f;
+    return inverseAreaCosPow(film, c, cosPower);
+}
+
+}  // namespace
+
+bool connectToCamera(const Camera& cam, Vec3 ref, int width, int height, CameraConnection* out) {
+    FilmPlane film = filmPlane(cam, width, height);
+    // ref − position in float, exactly as cameraImportance would receive it.
+    Vec3 d = ref - cam.position;
+    Local v = toCamera(cam, d);
+    float fx, fy;
+    if (!projectToFilm(film, v, width, height, &fx, &fy)) return false;
+    double dist = std::sqrt(dotD(d, d));
+    if (!(dist > 0) || !std::isfinite(dist)) return false;
+    double c = v.z / dist;
+    if (!(c > 0)) return false;
+    out->wi = Vec3(float(-d.x / dist), float(-d.y / dist), float(-d.z / dist));
+    out->dist = float(dist);
+    out->fx = fx;
+    out->fy = fy;
+    out->We = inverseAreaCosPow(film, c, 4);
+    out->pdf = 1.0f;
+    return true;
+}
+
+float cameraImportance(const Camera& cam, Vec3 w, int width, int height) {
+    return filmDensity(cam, w, width, height, 4);
+}
+
+float cameraPdfDir(const Camera& cam, Vec3 w, int width, int height) {
+    return filmDensity(cam, w, width, height, 3);
+}
+
+bool clipToFrustum(const Camera& cam, int width, int height, Vec3 o, Vec3 d, float* t0, float* t1) {
+    FilmPlane film = filmPlane(cam, width, height);
+    if (!film.valid) return false;
+    const float inT0 = *t0, inT1 = *t1;
+    if (!(inT0 <= inT1)) return false;  // also rejects NaN
+
+    // Ray relative to the camera, in camera space (double: o − position rounded in float
+    // would lose digits far from the origin).
+    const double ox = double(o.x) - cam.position.x, oy = double(o.y) - cam.position.y,
+                 oz = double(o.z) - cam.position.z;
+    auto along = [&](Vec3 axis) { return ox * axis.x + oy * axis.y + oz * axis.z; };
+    const Local q{along(cam.right), along(cam.up), along(cam.forward)};
+    const Local e = toCamera(cam, d);
+
+    // Scale of the float rounding made when a caller evaluates o + t·d and projects it: a few
+    // ulps of |o|, |position| and |t·d|, plus the float rounding of the film position (an ulp
+    // of the film size). kRel leaves a wide margin over 2^-24 for all of them together.
+    const double kRel = 1e-6;
+    const double scaleO = std::sqrt(dotD(o, o)) + std::sqrt(dotD(cam.position, cam.position));
+    const double lenD = std::sqrt(dotD(d, d));
+    if (!std::isfinite(scaleO) || !std::isfinite(lenD)) return false;
+
+    double lo = inT0, hi = inT1;
+    // Inside ⇔ for each plane a·z − s·c ≥ 0, where (a, c) is (tanX, x) or (tanY, y), s = ±1.
+    // Each constraint is g(t) = g0 + t·gd with normal of length sqrt(a² + 1).
+    const double tans[2] = {film.tanX, film.tanY};
+    const double qc[2] = {q.x, q.y}, ec[2] = {e.x, e.y};
+    for (int axis = 0; axis < 2; ++axis) {
+        const double a = tans[axis];
+        const double nlen = std::sqrt(a * a + 1.0);
+        for (double s : {1.0, -1.0}) {
+            double g0 = a * q.z - s * qc[axis];
+            double gd = a * e.z - s * ec[axis];
+            if (gd == 0) {
+                // Parallel to the plane: all inside or all outside (up to the same margin).
+                if (g0 < -kRel * scaleO * nlen) return false;
+                continue;
+            }
+            double tc = -g0 / gd;
+            double margin = kRel * (scaleO + std::abs(tc) * lenD) * nlen / std::abs(gd);
+            if (gd > 0) {
+                lo = std::max(lo, tc - margin);
+            } else {
+                hi = std::min(hi, tc + margin);
+            }
+        }
+    }
+    if (!(lo < hi)) return false;
+
+    // Round outwards to float, then stay within the input interval.
+    float flo = float(lo), fhi = float(hi);
+    if (double(flo) > lo) flo = std::nextafter(flo, -std::numeric_limits<float>::infinity());
+    if (double(fhi) < hi) fhi = std::nextafter(fhi, std::numeric_limits<float>::infinity());
+    flo = std::max(flo, inT0);
+    fhi = std::min(fhi, inT1);
+    if (!(flo < fhi)) return false;
+    *t0 = flo;
+    *t1 = fhi;
+    return true;
+}
+
+}  // namespace brume

@@ -1,0 +1,160 @@
+// `brume bench`, run as a user would: the results table, the method images, the cached
+// reference being reused on a second run, and usage errors.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "brume/render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A scratch directory that is deleted, contents and all, when the test ends.
+class Scratch {
+public:
+    Scratch() {
+        static std::atomic<int> serial{0};
+        root_ = fs::temp_directory_path() /
+                ("brume-bench-test-" + std::to_string(::getpid()) + "-" + std::to_string(serial++));
+        fs::remove_all(root_);
+        fs::create_directories(root_);
+    }
+    ~Scratch() {
+        std::error_code ignored;
+        fs::remove_all(root_, ignored);
+    }
+    std::string at(const std::string& name) const { return (root_ / name).string(); }
+
+private:
+    fs::path root_;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string quoted = "'";
+    for (char c : s) {
+        if (c == '\'') quoted += "'\\''";
+        else quoted += c;
+    }
+    return quoted + "'";
+}
+
+struct Run {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+Run runBrume(const std::string& arguments) {
+    Scratch capture;
+    std::string command = shellQuote(BRUME_EXE) + " " + arguments + " </dev/null >" + shellQuote(capture.at("out")) +
+                          " 2>" + shellQuote(capture.at("err"));
+    int status = std::system(command.c_str());
+    Run run;
+    if (WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
+    run.out = slurp(capture.at("out"));
+    run.err = slurp(capture.at("err"));
+    return run;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    std::string part;
+    std::istringstream in(text);
+    while (std::getline(in, part, separator)) parts.push_back(part);
+    return parts;
+}
+
+bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+const std::string kScene = std::string(BRUME_TEST_DATA) + "/single_near.gltf";
+const char* const kQuick = " --res 24x24 --budgets 0.2 --reference-spp 16 --methods pt:density,pt:mis";
+
+}  // namespace
+
+TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]") {
+    Scratch scratch;
+    const std::string dir = scratch.at("results/nested");  // created by brume
+    const std::string command = "bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + kQuick;
+
+    Run first = runBrume(command);
+    INFO("stdout: " << first.out << "\nstderr: " << first.err);
+    REQUIRE(first.exitCode == 0);
+    CHECK(contains(first.out, "rel_mse"));
+    CHECK(contains(first.out, "(r^2 + 0.01)"));
+    CHECK_FALSE(contains(first.out, "reused"));
+    CHECK(fs::exists(dir + "/reference.exr"));
+    CHECK(fs::exists(dir + "/reference.json"));
+
+    std::vector<std::string> lines = split(slurp(dir + "/results.csv"), '\n');
+    REQUIRE(lines.size() == 3);
+    CHECK(lines[0] == "scene,method,budget_s,seconds,spp,rel_mse,rmse,efficiency");
+    const char* methods[] = {"pt:density", "pt:mis"};
+    for (int row = 0; row < 2; ++row) {
+        INFO("row: " << lines[row + 1]);
+        std::vector<std::string> fields = split(lines[row + 1], ',');
+        REQUIRE(fields.size() == 8);
+        CHECK(fields[0] == "single_near");
+        CHECK(fields[1] == methods[row]);
+        for (int column = 2; column < 8; ++column) {
+            char* end = nullptr;
+            double value = std::strtod(fields[column].c_str(), &end);
+            CHECK(*end == '\0');
+            CHECK(std::isfinite(value));
+            CHECK(value > 0);
+        }
+        CHECK(std::strtod(fields[2].c_str(), nullptr) == 0.2);
+        CHECK(std::strtod(fields[3].c_str(), nullptr) >= 0.2);  // whole passes until the budget is spent
+        // The printed table has the same rows.
+        CHECK(contains(first.out, methods[row]));
+    }
+    for (const char* image : {"/pt_density.exr", "/pt_mis.exr"}) {
+        int w = 0, h = 0;
+        std::vector<float> rgb = brume::readImage(dir + image, &w, &h);
+        CHECK(w == 24);
+        CHECK(h == 24);
+    }
+
+    Run second = runBrume(command);
+    INFO("second stdout: " << second.out << "\nsecond stderr: " << second.err);
+    CHECK(second.exitCode == 0);
+    CHECK(contains(second.out, "reused"));
+
+    // A different reference spp does not match the cache.
+    Run third = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) +
+                      " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis");
+    CHECK(third.exitCode == 0);
+    CHECK_FALSE(contains(third.out, "reused"));
+}
+
+TEST_CASE("bench: usage errors exit with 2", "[cli][bench]") {
+    Scratch scratch;
+    const std::string dir = scratch.at("out");
+    Run run = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + " --methods pt:density,pt:nope");
+    CHECK(run.exitCode == 2);
+    CHECK(run.err.rfind("brume: error: ", 0) == 0);
+    CHECK(contains(run.err, "pt:nope"));
+    CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(dir));
+
+    CHECK(runBrume("bench " + shellQuote(kScene)).exitCode == 2);  // no --out
+    CHECK(runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + " --budgets 1,-2").exitCode == 2);
+    CHECK(runBrume("bench --help").exitCode == 0);
+}

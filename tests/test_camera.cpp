@@ -464,7 +464,7 @@ TEST_CASE("light tracing through connectToCamera reproduces a uniform emitter fi
 
     Film film(W, H);
     SplatList splats;
-    std::vector<Sums> blockSums(size_t(nBlocks));
+    std::vector<Sums> blockSums{size_t(nBlocks)};
     Sums all;
     Sampler rng(21, 0, 0);
     long landed = 0;
@@ -520,7 +520,7 @@ TEST_CASE("light tracing matches camera tracing for a textured, directional emit
     const double pixPerBlock = double(e.block * e.block);
 
     const long n = 2000000;
-    std::vector<Sums> light(size_t(nBlocks));
+    std::vector<Sums> light{size_t(nBlocks)};
     Sampler rng(22, 0, 0);
     for (long i = 0; i < n; ++i) {
         Vec3 p = e.samplePoint(rng.next2D());
@@ -579,6 +579,7 @@ TEST_CASE("clipToFrustum keeps exactly the part of a ray that projects on the fi
     for (const CameraCase& c : cameraCases()) {
         INFO(c.name);
         const Camera& cam = c.cam;
+        long nearEnd = 0, lostNearEnd = 0;
         long nonEmpty = 0, empty = 0, lost = 0, badEnd = 0, badInterior = 0, outsideInput = 0, insideSamples = 0;
         for (int i = 0; i < 4000; ++i) {
             // Origins around the camera (in front, behind, beside); directions either random or
@@ -616,23 +617,35 @@ TEST_CASE("clipToFrustum keeps exactly the part of a ray that projects on the fi
                 }
             }
             if (!ok) continue;
-            // Points strictly inside the clipped interval project onto the film.
+            // The clipped interval holds only points in the frustum (up to the rounding margin),
+            // and each end is the input's or lies on a frustum face (smallest plane distance ~0).
+            double scale = length(o) + length(cam.position) + std::max(std::abs(in0), std::abs(in1)) * length(d);
             for (int k = 0; k < 20; ++k) {
-                double tt = t0 + (t1 - t0) * (0.001 + 0.998 * rng.next1D());
+                double tt = t0 + (t1 - t0) * rng.next1D();
                 double p[3] = {o.x + d.x * tt, o.y + d.y * tt, o.z + d.z * tt};
-                if (!(frustumMargin(cam, c.width, c.height, p) > 0)) ++badInterior;
+                if (!(frustumMargin(cam, c.width, c.height, p) >= -1e-5 * scale)) ++badInterior;
             }
-            // Each end is the input's or lies on a frustum face (smallest plane distance ~0).
-            double scale = length(o) + length(cam.position) + std::max(std::abs(t0), std::abs(t1)) * length(d);
             for (float te : {t0, t1}) {
                 if (te == in0 || te == in1) continue;
+                // Float steps around a clipped end: where rounding decides, nothing that
+                // connectToCamera accepts may fall outside.
+                float tt = te;
+                for (int k = 0; k < 64; ++k) tt = std::nextafter(tt, -kInfinity);
+                for (int k = 0; k < 128; ++k, tt = std::nextafter(tt, kInfinity)) {
+                    if (tt < in0 || tt > in1) continue;
+                    CameraConnection cc;
+                    ++nearEnd;
+                    if (connectToCamera(cam, o + d * tt, c.width, c.height, &cc) && (tt < t0 || tt > t1)) ++lostNearEnd;
+                }
                 double p[3] = {o.x + d.x * double(te), o.y + d.y * double(te), o.z + d.z * double(te)};
                 if (!(std::abs(frustumMargin(cam, c.width, c.height, p)) <= 1e-5 * scale)) ++badEnd;
             }
         }
-        std::printf("[camera] %-18s clip: %ld non-empty, %ld empty, %ld samples on the film\n", c.name, nonEmpty,
-                    empty, insideSamples);
+        std::printf("[camera] %-18s clip: %ld non-empty, %ld empty, %ld samples on the film, %ld float steps "
+                    "around the ends\n",
+                    c.name, nonEmpty, empty, insideSamples, nearEnd);
         CHECK(lost == 0);
+        CHECK(lostNearEnd == 0);
         CHECK(badInterior == 0);
         CHECK(badEnd == 0);
         CHECK(outsideInput == 0);

@@ -4,11 +4,13 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <memory>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
 
 #include "brume/cli/commands.h"
+#include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/film.h"
 #include "brume/render/image_io.h"
@@ -24,7 +26,9 @@ const char* const kRenderUsage =
     "\n"
     "options:\n"
     "  -o, --output OUT     output image (required)\n"
-    "  --integrator NAME    pt (volumetric path tracer; the default)\n"
+    "  --integrator NAME    pt (volumetric path tracer; the default) or bdpt\n"
+    "                       (bidirectional path tracer)\n"
+    "  --mis HEURISTIC      bdpt: power (the default) or balance\n"
     "  --spp N              samples per pixel (default 16)\n"
     "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
     "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
@@ -52,6 +56,7 @@ struct RenderArgs {
     int maxDepth = -1;
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
+    MisHeuristic heuristic = MisHeuristic::Power;
     Resolution res;  // width 0: from the camera
     uint64_t seed = 0;
     int threads = 0;
@@ -83,6 +88,11 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
         } else if (name == "--no-nee") {
             args.noValue();
             a.nee = false;
+        } else if (name == "--mis") {
+            std::string h = args.value();
+            if (h == "power") a.heuristic = MisHeuristic::Power;
+            else if (h == "balance") a.heuristic = MisHeuristic::Balance;
+            else throw UsageError("--mis: unknown heuristic '" + h + "' (power or balance)");
         } else if (name == "--connect") {
             std::string mode = args.value();
             if (mode == "density") a.connect = ConnectMode::Density;
@@ -102,7 +112,8 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
     if (a.help) return a;
     if (a.scene.empty()) throw UsageError("render: no scene file given");
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
-    if (a.integrator != "pt") throw UsageError("unknown integrator '" + a.integrator + "' (available: pt)");
+    if (a.integrator != "pt" && a.integrator != "bdpt")
+        throw UsageError("unknown integrator '" + a.integrator + "' (available: pt, bdpt)");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
     return a;
 }
@@ -144,7 +155,13 @@ int runRender(const std::vector<std::string>& argv) {
     ptOptions.maxDepth = a.maxDepth;
     ptOptions.nextEventEstimation = a.nee;
     ptOptions.connect = a.connect;
-    PathTracer integrator(ptOptions);
+    BdptOptions bdptOptions;
+    bdptOptions.maxDepth = a.maxDepth;
+    bdptOptions.heuristic = a.heuristic;
+    std::unique_ptr<Integrator> integratorPtr;
+    if (a.integrator == "bdpt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
+    else integratorPtr = std::make_unique<PathTracer>(ptOptions);
+    const Integrator& integrator = *integratorPtr;
 
     RenderOptions options;
     options.width = res.width;

@@ -117,36 +117,54 @@ bool clipToFrustum(const Camera& cam, int width, int height, Vec3 o, Vec3 d, flo
     const Local q{along(cam.right), along(cam.up), along(cam.forward)};
     const Local e = toCamera(cam, d);
 
-    // Scale of the float rounding made when a caller evaluates o + t·d and projects it: a few
-    // ulps of |o|, |position| and |t·d|, plus the float rounding of the film position (an ulp
-    // of the film size). kRel leaves a wide margin over 2^-24 for all of them together.
+    // Bound on the float rounding a caller makes when it evaluates o + t·d and projects the
+    // point, as an error in the plane functions g below:
+    //     |Δg(t)| ≤ δ(t) = kRel · |n| · (|o| + |position| + |t|·|d|),
+    // a few ulps of each term, plus the rounding of the float film position (an ulp of the
+    // film size, ~2^-24 of |t·d| in the plane's units); kRel leaves a margin of ~2 over 7·2^-24.
     const double kRel = 1e-6;
     const double scaleO = std::sqrt(dotD(o, o)) + std::sqrt(dotD(cam.position, cam.position));
     const double lenD = std::sqrt(dotD(d, d));
     if (!std::isfinite(scaleO) || !std::isfinite(lenD)) return false;
+    // The largest |t| of the input (+∞ if unbounded).
+    const double tIn = std::max(std::abs(double(inT0)), std::abs(double(inT1)));
 
     double lo = inT0, hi = inT1;
-    // Inside ⇔ for each plane a·z − s·c ≥ 0, where (a, c) is (tanX, x) or (tanY, y), s = ±1.
-    // Each constraint is g(t) = g0 + t·gd with normal of length sqrt(a² + 1).
+    // Inside ⇔ for each of the four planes g(t) = g0 + t·gd ≥ 0, with g = a·z − s·c, where
+    // (a, c) is (tanX, x) or (tanY, y) and s = ±1; the plane's normal has length sqrt(a² + 1).
+    // The kept set is g(t) + margin ≥ 0: still one linear constraint per plane.
     const double tans[2] = {film.tanX, film.tanY};
     const double qc[2] = {q.x, q.y}, ec[2] = {e.x, e.y};
     for (int axis = 0; axis < 2; ++axis) {
         const double a = tans[axis];
         const double nlen = std::sqrt(a * a + 1.0);
         for (double s : {1.0, -1.0}) {
-            double g0 = a * q.z - s * qc[axis];
-            double gd = a * e.z - s * ec[axis];
+            const double g0 = a * q.z - s * qc[axis];
+            const double gd = a * e.z - s * ec[axis];
+            // The margin is δ at the largest |t| where rounding can flip the sign of g: within
+            // the input and, unless the ray grazes the plane, near the crossing t = −g0/gd
+            // (|g| grows at rate |gd| away from it, δ only at rate kRel·|n|·|d|).
+            double tMax = tIn;
+            if (gd != 0) {
+                const double tCross = std::abs(g0 / gd);
+                const double rate = kRel * nlen * lenD;
+                if (std::abs(gd) >= 2 * rate) {
+                    tMax = std::min(tMax, tCross + 2 * kRel * nlen * (scaleO + tCross * lenD) / std::abs(gd));
+                } else if (!std::isfinite(tMax)) {
+                    tMax = tCross;  // grazing an unbounded ray: best effort
+                }
+            }
+            const double margin = kRel * nlen * (scaleO + tMax * lenD);
             if (gd == 0) {
-                // Parallel to the plane: all inside or all outside (up to the same margin).
-                if (g0 < -kRel * scaleO * nlen) return false;
+                // Parallel to the plane: all inside or all outside.
+                if (g0 + margin < 0) return false;
                 continue;
             }
-            double tc = -g0 / gd;
-            double margin = kRel * (scaleO + std::abs(tc) * lenD) * nlen / std::abs(gd);
+            const double tc = -(g0 + margin) / gd;
             if (gd > 0) {
-                lo = std::max(lo, tc - margin);
+                lo = std::max(lo, tc);
             } else {
-                hi = std::min(hi, tc + margin);
+                hi = std::min(hi, tc);
             }
         }
     }

@@ -75,6 +75,7 @@ bool sampleEmission(const Scene& scene, const Light& light, Sample2 u1, Sample2 
         s.Le = light.intensity / (kPi * r * r);
         s.pdfPos = 1.0f / (4.0f * kPi * r * r);
         s.pdfDir = cosineHemispherePdf(local.z);
+        if (!(dot(s.d, n) > 0)) return false;  // a grazing direction tipped over by rounding
         break;
     }
     case LightKind::Triangle: {

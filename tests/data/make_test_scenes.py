@@ -134,6 +134,136 @@ def area_quad(name):
     return b.write(out(name))
 
 
+# ---------------------------------------------------------------------------------------------
+# Small scenes for comparing the bidirectional path tracer with the path tracer (rendered at
+# tiny resolutions with a few hundred samples per pixel).
+
+def checked_quad(center, u_half, v_half, normal):
+    """g.quad with an assertion that both triangles' front faces point along `normal`."""
+    pos, nrm, uvs, idx = g.quad(center, u_half, v_half)
+    for t in range(2):
+        n = g.normalize(g.triangle_normal(pos, idx, t))
+        assert all(abs(n[i] - normal[i]) < 1e-12 for i in range(3)), "quad faces %r" % (n,)
+    return pos, nrm, uvs, idx
+
+
+def add_quad(b, name, center, u_half, v_half, normal, material):
+    pos, nrm, _uvs, idx = checked_quad(center, u_half, v_half, normal)
+    b.add_node(name, mesh=b.add_mesh(name, pos, idx, normals=nrm, material=material))
+
+
+def add_fog_box(b, name, lo, hi, medium):
+    """Invisible closed boundary (no material, no NORMAL) of the box [lo, hi] enclosing `medium`."""
+    size = g.sub(hi, lo)
+    center = g.scale(g.add(lo, hi), 0.5)
+    pos, _nrm, _uvs, idx = g.box(size, center)
+    vol = g.signed_volume(pos, idx)
+    assert abs(vol - size[0] * size[1] * size[2]) < 1e-9, "box faces inward (volume %g)" % vol
+    for p in pos:
+        assert all(abs(p[i] - lo[i]) < 1e-12 or abs(p[i] - hi[i]) < 1e-12 for i in range(3))
+    b.add_node(name, mesh=b.add_mesh(name, pos, idx, interior=medium))
+
+
+def add_glass_material(b, name, ior):
+    """Smooth glass: KHR_materials_transmission 1 + KHR_materials_ior (gltfgen has no helper)."""
+    m = b.add_material(name, base_color=(1.0, 1.0, 1.0), metallic=0.0, roughness=0.0)
+    b.materials[m]["extensions"] = {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                    "KHR_materials_ior": {"ior": float(ior)}}
+    b.extensions_used.update(("KHR_materials_transmission", "KHR_materials_ior"))
+    return m
+
+
+def bdpt_quad_fogbox(name):
+    """Fog only inside a 2 m box (vacuum around it) lit by a one-sided 0.6 m quad light near the
+    box's top; a grey floor under the box catches the light that leaves it."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 0.7)  # every pixel's ray enters the box's front face (z = -2.5)
+    fog = b.add_medium("fog", scattering=0.5, absorption=0.05, anisotropy=0.3)
+    add_fog_box(b, "fog_box", (-1.0, -1.0, -4.5), (1.0, 1.0, -2.5), fog)
+    emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                             emissive=(1.0, 1.0, 1.0), emissive_strength=4.0)
+    # 0.6 m x 0.6 m at y = 0.9 (0.1 m below the box top), facing -Y.
+    add_quad(b, "quad_light", (0.0, 0.9, -3.5), (0.3, 0.0, 0.0), (0.0, 0.0, 0.3), (0.0, -1.0, 0.0),
+             emitter)
+    grey = b.add_material("floor", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0)
+    # 3 m x 3 m at y = -1.2, facing +Y.
+    add_quad(b, "floor", (0.0, -1.2, -3.5), (1.5, 0.0, 0.0), (0.0, 0.0, -1.5), (0.0, 1.0, 0.0), grey)
+    return b.write(out(name))
+
+
+WINDOW_CENTER = (-2.0, 1.8, -2.5)
+WINDOW_HALF = 0.5
+WINDOW_SUN_DIR = (1.0, -0.6, 0.2)  # direction of travel, normalized below
+
+
+def bdpt_window_fog(name):
+    """A closed grey room (x in [-2, 2], y in [0, 3], z in [-5, 0], walls facing inward) with a
+    1 m square window in the left wall, filled with fog (bounded just inside the walls, vacuum
+    outside), lit only by a directional light shining in through the window."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    b.add_camera("camera", yfov=1.0, aspect_ratio=1.0, translation=(0.0, 1.5, -0.2))
+    fog = b.add_medium("fog", scattering=0.15, absorption=0.01, anisotropy=0.5)
+    add_fog_box(b, "fog_box", (-1.99, 0.01, -4.99), (1.99, 2.99, -0.01), fog)
+    grey = b.add_material("wall", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0)
+    add_quad(b, "floor", (0.0, 0.0, -2.5), (2.0, 0.0, 0.0), (0.0, 0.0, -2.5), (0.0, 1.0, 0.0), grey)
+    add_quad(b, "ceiling", (0.0, 3.0, -2.5), (2.0, 0.0, 0.0), (0.0, 0.0, 2.5), (0.0, -1.0, 0.0), grey)
+    add_quad(b, "back_wall", (0.0, 1.5, -5.0), (2.0, 0.0, 0.0), (0.0, 1.5, 0.0), (0.0, 0.0, 1.0), grey)
+    add_quad(b, "front_wall", (0.0, 1.5, 0.0), (-2.0, 0.0, 0.0), (0.0, 1.5, 0.0), (0.0, 0.0, -1.0), grey)
+    add_quad(b, "right_wall", (2.0, 1.5, -2.5), (0.0, 0.0, 2.5), (0.0, 1.5, 0.0), (-1.0, 0.0, 0.0), grey)
+    # Left wall (x = -2, facing +X) as four quads around the window y in [1.3, 2.3], z in [-3, -2].
+    wy0, wy1 = WINDOW_CENTER[1] - WINDOW_HALF, WINDOW_CENTER[1] + WINDOW_HALF
+    wz0, wz1 = WINDOW_CENTER[2] - WINDOW_HALF, WINDOW_CENTER[2] + WINDOW_HALF
+    plus_x = (1.0, 0.0, 0.0)
+
+    def left_piece(piece, y0, y1, z0, z1):
+        add_quad(b, "left_wall_" + piece, (-2.0, 0.5 * (y0 + y1), 0.5 * (z0 + z1)),
+                 (0.0, 0.0, -0.5 * (z1 - z0)), (0.0, 0.5 * (y1 - y0), 0.0), plus_x, grey)
+
+    left_piece("below", 0.0, wy0, -5.0, 0.0)
+    left_piece("above", wy1, 3.0, -5.0, 0.0)
+    left_piece("back", wy0, wy1, -5.0, wz0)
+    left_piece("front", wy0, wy1, wz1, 0.0)
+    # The sun: local -Z onto the direction of travel.
+    d = g.normalize(WINDOW_SUN_DIR)
+    rot = g.quat_look_dir(d)
+    r = g.quat_rotate(rot, (0.0, 0.0, -1.0))
+    assert all(abs(r[i] - d[i]) < 1e-12 for i in range(3)), "sun points along %r" % (r,)
+    # Directional: the position does not matter; put the node outside the window, on the beam axis.
+    b.add_light("sun", "directional", (1.0, 0.95, 0.9), 5.0,
+                translation=g.sub(WINDOW_CENTER, g.scale(d, 2.0)), rotation=rot)
+    return b.write(out(name))
+
+
+def bdpt_glass_sphere(name):
+    """A smooth glass sphere in ambient fog under a spot light that focuses a caustic on the
+    grey floor below it."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    eye, target = (0.0, 0.6, 0.0), (0.0, -0.2, -3.0)
+    look = g.quat_look_at(eye, target)
+    f = g.quat_rotate(look, (0.0, 0.0, -1.0))
+    want = g.normalize(g.sub(target, eye))
+    assert all(abs(f[i] - want[i]) < 1e-12 for i in range(3))
+    b.add_camera("camera", yfov=0.8, aspect_ratio=1.0, translation=eye, rotation=look)
+    b.set_ambient(b.add_medium("fog", scattering=0.1, absorption=0.01, anisotropy=0.3))
+    glass = add_glass_material(b, "glass", 1.5)
+    center, radius = (0.0, 0.3, -3.0), 0.5
+    pos, nrm, _uvs, idx = g.uv_sphere(radius, 32, 16, center=center)
+    g.check_closed(idx)
+    vol = g.signed_volume(pos, idx)
+    ball = 4.0 / 3.0 * math.pi * radius ** 3
+    assert 0.95 * ball < vol < ball, "signed volume %g: not an outward sphere" % vol
+    b.add_node("glass_sphere", mesh=b.add_mesh("glass_sphere", pos, idx, normals=nrm, material=glass))
+    # Spot straight down (-90 degrees about +X: local -Z onto world -Y).
+    down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
+    d = g.quat_rotate(down, (0.0, 0.0, -1.0))
+    assert abs(d[0]) < 1e-12 and abs(d[1] + 1.0) < 1e-12 and abs(d[2]) < 1e-12
+    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 40.0, translation=(0.0, 2.5, -3.0), rotation=down,
+                inner_cone=0.15, outer_cone=0.25)
+    grey = b.add_material("floor", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
+    add_quad(b, "floor", (0.0, -0.6, -3.0), (2.0, 0.0, 0.0), (0.0, 0.0, -2.0), (0.0, 1.0, 0.0), grey)
+    return b.write(out(name))
+
+
 def main():
     written = [
         furnace("furnace_ambient.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0),
@@ -155,6 +285,10 @@ def main():
         # camera ray of an odd-sized image (D = 0 for equi-angular sampling).
         single("single_dense.gltf", (0.3, 0.2, -3.0), scattering=2.0, absorption=0.5),
         single("single_on_ray.gltf", (0.0, 0.0, -3.0)),
+        # Bidirectional vs unidirectional path tracing (test_bdpt*): small, everything lit.
+        bdpt_quad_fogbox("bdpt_quad_fogbox.gltf"),
+        bdpt_window_fog("bdpt_window_fog.gltf"),
+        bdpt_glass_sphere("bdpt_glass_sphere.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

@@ -20,12 +20,14 @@ constexpr double kZ = 4.0;
 
 // Pixels showing a point or spot light directly: bdpt's light tracing images the light (a
 // finite irradiance through the pinhole), the path tracer cannot hit a delta light.
-std::vector<bool> pointLightPixels(const Scene& scene, int W, int H) {
-    std::vector<bool> mask(size_t(W) * H, false);
+std::vector<bool> pointLightBlocks(const Scene& scene, int W, int block) {
+    int bw = W / block;
+    std::vector<bool> mask(size_t(bw) * bw, false);
     for (const Light& l : scene.lights()) {
         if (l.kind != LightKind::Point && l.kind != LightKind::Spot) continue;
         CameraConnection cc;
-        if (connectToCamera(scene.camera(), l.position, W, H, &cc)) mask[size_t(int(cc.fy)) * W + int(cc.fx)] = true;
+        if (connectToCamera(scene.camera(), l.position, W, W, &cc))
+            mask[size_t(int(cc.fy) / block) * bw + int(cc.fx) / block] = true;
     }
     return mask;
 }
@@ -51,14 +53,15 @@ double worstZ(const std::vector<PixelEstimate>& a, const std::vector<PixelEstima
     return worst;
 }
 
+// Blocks of 2×2 pixels of a W×W image; blocks that show a point light directly are skipped.
 void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt, int batches) {
     auto scene = loadTestScene(file);
     PathTracer pt(PathTracerOptions{maxDepth, true, ConnectMode::Mis});
     BdptIntegrator bdpt(BdptOptions{maxDepth, MisHeuristic::Power});
-    auto a = estimateFilm(*scene, pt, W, W, sppPt, batches, 1);
-    auto b = estimateFilm(*scene, bdpt, W, W, sppBdpt, batches, 2);
+    auto a = estimateFilm(*scene, pt, W, W, sppPt, batches, 1, 2);
+    auto b = estimateFilm(*scene, bdpt, W, W, sppBdpt, batches, 2, 2);
     std::string where;
-    double z = worstZ(a, b, pointLightPixels(*scene, W, W), W, &where);
+    double z = worstZ(a, b, pointLightBlocks(*scene, W, 2), W / 2, &where);
     INFO(file << " max-depth " << maxDepth << ": worst " << where << " (z = " << z << ")");
     CHECK(z < kZ);
 }
@@ -66,17 +69,17 @@ void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt
 }  // namespace
 
 TEST_CASE("bdpt matches pt at --max-depth 1 (single scattering and direct light)", "[bdpt]") {
-    compareWithPt("single_near.gltf", 1, 8, 64, 64, 16);
-    compareWithPt("single_spot.gltf", 1, 8, 64, 64, 16);
-    compareWithPt("area_quad.gltf", 1, 8, 64, 64, 16);
-    compareWithPt("area_sphere.gltf", 1, 8, 64, 64, 16);
-    compareWithPt("quad_light_fog.gltf", 1, 8, 64, 64, 16);
+    compareWithPt("single_near.gltf", 1, 16, 64, 64, 16);
+    compareWithPt("single_spot.gltf", 1, 16, 64, 64, 16);
+    compareWithPt("area_quad.gltf", 1, 16, 64, 64, 16);
+    compareWithPt("area_sphere.gltf", 1, 16, 64, 64, 16);
+    compareWithPt("quad_light_fog.gltf", 1, 16, 64, 64, 16);
 }
 
 TEST_CASE("bdpt matches pt with unlimited depth", "[bdpt]") {
-    compareWithPt("single_near.gltf", -1, 8, 64, 32, 16);
-    compareWithPt("quad_light_fog.gltf", -1, 8, 64, 32, 16);
-    compareWithPt("sphere_light_fog.gltf", -1, 8, 64, 32, 16);
+    compareWithPt("single_near.gltf", -1, 16, 64, 32, 16);
+    compareWithPt("quad_light_fog.gltf", -1, 16, 64, 32, 16);
+    compareWithPt("sphere_light_fog.gltf", -1, 16, 64, 32, 16);
 }
 
 TEST_CASE("bdpt furnace: every pixel is 1", "[bdpt][oracle]") {
@@ -84,7 +87,7 @@ TEST_CASE("bdpt furnace: every pixel is 1", "[bdpt][oracle]") {
         auto scene = loadTestScene(file);
         for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
             BdptIntegrator bdpt(BdptOptions{-1, h});
-            auto px = estimateFilm(*scene, bdpt, 8, 8, 16, 16, 3);
+            auto px = estimateFilm(*scene, bdpt, 8, 8, 32, 16, 3, 2);
             double worst = 0;
             for (const PixelEstimate& e : px)
                 for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.mean(c) - 1.0) / e.stderror(c));
@@ -97,11 +100,12 @@ TEST_CASE("bdpt furnace: every pixel is 1", "[bdpt][oracle]") {
 TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies against pt)", "[bdpt]") {
     // A strategy (s, t) alone, unweighted, estimates the paths with s + t − 2 scattering
     // events; pt at --max-depth k minus pt at k − 1 estimates the same.
-    const int W = 8;
+    // 4×4 blocks of a 16×16 image: single strategies are noisy per pixel.
+    const int W = 16, B = 4;
     auto scene = loadTestScene("quad_light_fog.gltf");
     PathTracer pt0(PathTracerOptions{0, true, ConnectMode::Mis}), pt1(PathTracerOptions{1, true, ConnectMode::Mis});
-    auto ref0 = estimateFilm(*scene, pt0, W, W, 64, 16, 7);
-    auto ref1 = estimateFilm(*scene, pt1, W, W, 64, 16, 8);
+    auto ref0 = estimateFilm(*scene, pt0, W, W, 64, 16, 7, B);
+    auto ref1 = estimateFilm(*scene, pt1, W, W, 64, 16, 8, B);
     std::vector<PixelEstimate> exact1(ref1.size());
     for (size_t i = 0; i < ref1.size(); ++i) {  // depth exactly 1: difference of independent estimates
         PixelEstimate& d = exact1[i];
@@ -115,14 +119,14 @@ TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies 
             d.sum2[c] = (var * double(d.n - 1) / double(d.n) + m * m) * double(d.n);
         }
     }
-    std::vector<bool> none(size_t(W) * W, false);
+    std::vector<bool> none(ref0.size(), false);
     struct S { int s, t; const std::vector<PixelEstimate>* ref; };
     const S strategies[] = {{0, 2, &ref0}, {1, 1, &ref0}, {0, 3, &exact1}, {1, 2, &exact1}, {2, 1, &exact1}};
     for (const S& st : strategies) {
         BdptIntegrator only(BdptOptions{st.s + st.t - 2, MisHeuristic::Power, st.s, st.t});
-        auto est = estimateFilm(*scene, only, W, W, 64, 16, 9 + uint64_t(st.s));
+        auto est = estimateFilm(*scene, only, W, W, 64, 16, 9 + uint64_t(st.s), B);
         std::string where;
-        double z = worstZ(est, *st.ref, none, W, &where);
+        double z = worstZ(est, *st.ref, none, W / B, &where);
         INFO("strategy s=" << st.s << " t=" << st.t << ": worst " << where << " (z = " << z << ")");
         CHECK(z < kZ);
     }

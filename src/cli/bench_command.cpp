@@ -4,6 +4,7 @@
 // once with pt:mis at many spp and cached in DIR) and the errors, the measured seconds and
 // the efficiency 1 / (relMSE · seconds) go to DIR/results.csv and to stdout.
 #include <signal.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -358,6 +359,13 @@ void catchBenchInterrupt() {
     sigaction(SIGINT, &sa, nullptr);
 }
 
+// CPU time of the whole process, all threads.
+double processCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 struct Metrics {
     double relMse = 0, rmse = 0;
 };
@@ -527,8 +535,18 @@ int runBench(const std::vector<std::string>& argv) {
             options.seed = a.seed;
             options.threads = a.threads;
             Film film(res.width, res.height);
+            const double cpuBefore = processCpuSeconds();
             RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
+            const double cpu = processCpuSeconds() - cpuBefore;
             if (interrupted()) return kExitInterrupted;
+            // Equal-time comparisons assume the threads had the machine to themselves.
+            const int workers = std::min(threads, ((res.width + 15) / 16) * ((res.height + 15) / 16));
+            const double busy = cpu / (std::max(stats.seconds, 1e-9) * workers);
+            if (busy < 0.8)
+                std::fprintf(stderr,
+                             "brume: warning: %s at %g s: the %d threads were busy only %.0f%% of the time; "
+                             "is the machine loaded? its timing is unreliable\n",
+                             method->name, budget, workers, 100 * busy);
             std::vector<float> image = film.rgb();
             Row row{method, budget, stats.seconds, stats.passes, compareImages(image, reference), 0};
             double cost = row.error.relMse * row.seconds;

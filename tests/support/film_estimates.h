@@ -2,6 +2,7 @@
 // integrators that splat (bidirectional methods): a pixel's value then depends on samples
 // taken for other pixels, so per-sample statistics are not available, batches are.
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "brume/render/film.h"
@@ -10,9 +11,13 @@
 
 namespace brume::test {
 
+// With block > 1, estimates are of block × block pixel averages (row-major over blocks).
 inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, const Integrator& integrator, int width,
-                                               int height, int sppPerBatch, int batches, uint64_t seed) {
-    std::vector<PixelEstimate> px(size_t(width) * height);
+                                               int height, int sppPerBatch, int batches, uint64_t seed,
+                                               int block = 1) {
+    const int bw = width / block, bh = height / block;
+    std::vector<PixelEstimate> px(size_t(bw) * bh);
+    std::vector<Spectrum> acc(px.size());
     for (int b = 0; b < batches; ++b) {
         Film film(width, height);
         RenderOptions o;
@@ -22,16 +27,18 @@ inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, const Integra
         o.seed = seed * 1000003ULL + uint64_t(b);
         o.threads = 2;
         render(scene, integrator, o, film);
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                Spectrum v = film.pixel(x, y);
-                PixelEstimate& e = px[size_t(y) * width + x];
-                for (int c = 0; c < 3; ++c) {
-                    e.sum[c] += v[c];
-                    e.sum2[c] += double(v[c]) * v[c];
-                }
-                ++e.n;
+        std::fill(acc.begin(), acc.end(), Spectrum(0.0f));
+        for (int y = 0; y < bh * block; ++y)
+            for (int x = 0; x < bw * block; ++x) acc[size_t(y / block) * bw + x / block] += film.pixel(x, y);
+        for (size_t i = 0; i < px.size(); ++i) {
+            Spectrum v = acc[i] / float(block * block);
+            PixelEstimate& e = px[i];
+            for (int c = 0; c < 3; ++c) {
+                e.sum[c] += v[c];
+                e.sum2[c] += double(v[c]) * v[c];
             }
+            ++e.n;
+        }
     }
     return px;
 }

@@ -80,6 +80,11 @@ TEST_CASE("bdpt matches pt with unlimited depth", "[bdpt]") {
     compareWithPt("single_near.gltf", -1, 16, 64, 32, 16);
     compareWithPt("quad_light_fog.gltf", -1, 16, 64, 32, 16);
     compareWithPt("sphere_light_fog.gltf", -1, 16, 64, 32, 16);
+    compareWithPt("bdpt_quad_fogbox.gltf", -1, 16, 64, 32, 16);  // bounded fog, invisible boundary
+}
+
+TEST_CASE("bdpt matches pt: directional light through a window into bounded fog", "[bdpt]") {
+    compareWithPt("bdpt_window_fog.gltf", 2, 16, 256, 128, 16);
 }
 
 TEST_CASE("bdpt furnace: every pixel is 1", "[bdpt][oracle]") {

@@ -234,7 +234,7 @@ def bdpt_window_fog(name):
     return b.write(out(name))
 
 
-def bdpt_glass_sphere(name):
+def bdpt_glass_sphere(name, sphere_light_radius=None):
     """A smooth glass sphere in ambient fog under a spot light that focuses a caustic on the
     grey floor below it."""
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
@@ -257,8 +257,13 @@ def bdpt_glass_sphere(name):
     down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
     d = g.quat_rotate(down, (0.0, 0.0, -1.0))
     assert abs(d[0]) < 1e-12 and abs(d[1] + 1.0) < 1e-12 and abs(d[2]) < 1e-12
-    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 40.0, translation=(0.0, 2.5, -3.0), rotation=down,
-                inner_cone=0.15, outer_cone=0.25)
+    if sphere_light_radius:
+        # The path tracer can only reach the light through the glass if it has a size.
+        b.add_light("bulb", "point", (1.0, 1.0, 1.0), 40.0, translation=(0.0, 2.5, -3.0),
+                    radius=sphere_light_radius)
+    else:
+        b.add_light("spot", "spot", (1.0, 1.0, 1.0), 40.0, translation=(0.0, 2.5, -3.0), rotation=down,
+                    inner_cone=0.15, outer_cone=0.25)
     grey = b.add_material("floor", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
     add_quad(b, "floor", (0.0, -0.6, -3.0), (2.0, 0.0, 0.0), (0.0, 0.0, -2.0), (0.0, 1.0, 0.0), grey)
     return b.write(out(name))
@@ -289,6 +294,7 @@ def main():
         bdpt_quad_fogbox("bdpt_quad_fogbox.gltf"),
         bdpt_window_fog("bdpt_window_fog.gltf"),
         bdpt_glass_sphere("bdpt_glass_sphere.gltf"),
+        bdpt_glass_sphere("bdpt_glass_sphere_bulb.gltf", sphere_light_radius=0.1),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

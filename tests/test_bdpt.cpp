@@ -136,3 +136,37 @@ TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies 
         CHECK(z < kZ);
     }
 }
+
+TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
+    // Same seed, same random numbers whichever strategy is kept (BdptOptions::weighted).
+    for (const char* file : {"quad_light_fog.gltf", "bdpt_quad_fogbox.gltf", "single_near.gltf"}) {
+        auto scene = loadTestScene(file);
+        const int W = 12, depth = 3;
+        RenderOptions o;
+        o.width = o.height = W;
+        o.spp = 8;
+        o.seed = 77;
+        Film full(W, W);
+        render(*scene, BdptIntegrator(BdptOptions{depth, MisHeuristic::Power}), o, full);
+        std::vector<Spectrum> sum(size_t(W) * W, Spectrum(0.0f));
+        for (int d = 0; d <= depth; ++d)
+            for (int s = 0; s <= d + 2; ++s) {
+                int t = d + 2 - s;
+                if (t < 1) continue;
+                BdptOptions opt{depth, MisHeuristic::Power, s, t, true};
+                Film f(W, W);
+                render(*scene, BdptIntegrator(opt), o, f);
+                for (int y = 0; y < W; ++y)
+                    for (int x = 0; x < W; ++x) sum[size_t(y) * W + x] += f.pixel(x, y);
+            }
+        double worst = 0;
+        for (int y = 0; y < W; ++y)
+            for (int x = 0; x < W; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    double a = full.pixel(x, y)[c], b = sum[size_t(y) * W + x][c];
+                    worst = std::max(worst, std::abs(a - b) / std::max(1e-3, std::abs(a)));
+                }
+        INFO(file << ": worst relative difference " << worst);
+        CHECK(worst < 1e-4);
+    }
+}

@@ -1,8 +1,10 @@
 // brume render SCENE -o OUT [options]: everything is checked before the first sample, the
 // image is written in one piece at the end, and a summary line goes to stdout.
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <cstdio>
@@ -29,6 +31,9 @@ const char* const kRenderUsage =
     "  --integrator NAME    pt (volumetric path tracer; the default) or bdpt\n"
     "                       (bidirectional path tracer)\n"
     "  --mis HEURISTIC      bdpt: power (the default) or balance\n"
+    "  --strategy-images DIR  bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted\n"
+    "                       contribution (they add up to the image; one extra render each,\n"
+    "                       for s + t - 2 up to min(max-depth, 5))\n"
     "  --spp N              samples per pixel (default 16)\n"
     "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
     "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
@@ -57,6 +62,7 @@ struct RenderArgs {
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
     MisHeuristic heuristic = MisHeuristic::Power;
+    std::string strategyDir;
     Resolution res;  // width 0: from the camera
     uint64_t seed = 0;
     int threads = 0;
@@ -88,6 +94,8 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
         } else if (name == "--no-nee") {
             args.noValue();
             a.nee = false;
+        } else if (name == "--strategy-images") {
+            a.strategyDir = args.value();
         } else if (name == "--mis") {
             std::string h = args.value();
             if (h == "power") a.heuristic = MisHeuristic::Power;
@@ -115,10 +123,35 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
     if (a.integrator != "pt" && a.integrator != "bdpt")
         throw UsageError("unknown integrator '" + a.integrator + "' (available: pt, bdpt)");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
+    if (!a.strategyDir.empty() && a.integrator != "bdpt") throw UsageError("--strategy-images needs --integrator bdpt");
+    if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
     return a;
 }
 
 std::atomic<bool> gInterrupted{false};
+
+// One render per strategy (s, t), same seed and spp, each keeping only that strategy's
+// weighted contribution: the images add up to the full render.
+void writeStrategyImages(const Scene& scene, BdptOptions bdpt, RenderOptions options, const std::string& dir) {
+    ::mkdir(dir.c_str(), 0777);
+    const int maxDepth = bdpt.maxDepth < 0 ? 5 : std::min(bdpt.maxDepth, 5);
+    options.progress = false;
+    bdpt.weighted = true;
+    for (int depth = 0; depth <= maxDepth; ++depth)
+        for (int s = 0; s <= depth + 2; ++s) {
+            int t = depth + 2 - s;
+            if (t < 1) continue;
+            bdpt.onlyS = s;
+            bdpt.onlyT = t;
+            BdptIntegrator integrator(bdpt);
+            Film film(options.width, options.height);
+            render(scene, integrator, options, film, &gInterrupted);
+            if (gInterrupted.load()) return;
+            std::string path = dir + "/s" + std::to_string(s) + "_t" + std::to_string(t) + ".exr";
+            writeImage(path, options.width, options.height, film.rgb());
+        }
+    std::printf("strategy images in %s\n", dir.c_str());
+}
 
 extern "C" void onInterrupt(int) { gInterrupted.store(true); }
 
@@ -178,6 +211,7 @@ int runRender(const std::vector<std::string>& argv) {
     signal(SIGINT, SIG_DFL);
 
     writeImage(a.output, res.width, res.height, film.rgb());
+    if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
     std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite\n", a.output.c_str(),

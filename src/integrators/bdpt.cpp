@@ -245,7 +245,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const Camera& cam = scene.camera();
 
     Spectrum L(0.0f);
+    const bool weighted = options_.onlyS < 0 || options_.weighted;
     for (int t = 1; t <= nCamera; ++t) {
+        // The s = 1 light sample's numbers, drawn whether or not that strategy runs.
+        float uPick1 = t > 1 ? sampler.next1D() : 0.0f;
+        Sample2 uLight1 = t > 1 ? sampler.next2D() : Sample2{0, 0};
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
         for (int s = 0; s <= std::max(nLight, 1); ++s) {
             if (s == 0 && t < 2) continue;
@@ -269,7 +273,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Scoped<float> a, b;
                 a.set(&pt.pdfRev, pick * pos);
                 b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, dir, pt.edgeDist) * pt.edgeRevFreeFlight);
-                if (options_.onlyS < 0) weight = misWeight(light, camera, 0, t, options_.heuristic);
+                if (weighted) weight = misWeight(light, camera, 0, t, options_.heuristic);
             } else if (t == 1) {
                 // Light tracing: connect y(s−1) to the pinhole and splat.
                 PathVertex& qs = light[s - 1];
@@ -291,7 +295,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 float cosCam = dot(-toCam, cam.forward);
                 Spectrum value = qs.beta * f * conn.T * (cc.We * cosCam / (cc.dist * cc.dist));
                 if (isBlack(value)) continue;
-                if (options_.onlyS < 0) {
+                if (weighted) {
                     // The camera's walk would have made qs with the pinhole's direction density.
                     Scoped<float> a, b;
                     float pCam = cameraPdfDir(cam, -toCam, width, height);
@@ -308,14 +312,12 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             } else if (s == 1) {
                 // Next-event estimation: a fresh light sample connected to z(t−1).
                 if (!scatters(pt)) continue;
-                float uPick = sampler.next1D();
-                Sample2 uLight = sampler.next2D();
                 if (scene.lightDistribution().empty()) continue;
                 float pick;
-                int li = scene.lightDistribution().sample(uPick, &pick);
+                int li = scene.lightDistribution().sample(uPick1, &pick);
                 const Light& l = scene.lights()[li];
                 LightSample ls;
-                if (!sampleLight(scene, l, pt.p, uLight, &ls) || isBlack(ls.Le)) continue;
+                if (!sampleLight(scene, l, pt.p, uLight1, &ls) || isBlack(ls.Le)) continue;
                 Spectrum f = scatter(scene, pt, pt.wo, ls.wi, TransportMode::Radiance);
                 if (isBlack(f)) continue;
                 Vec3 o = pt.isSurface() ? offsetOrigin(pt.p, pt.ng, ls.wi) : pt.p;
@@ -324,7 +326,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                                                 false, l.kind == LightKind::Sphere ? li : -1, stats);
                 if (isBlack(conn.T)) continue;
                 contrib = pt.beta * f * ls.Le * conn.T / (pick * ls.pdf);
-                if (options_.onlyS < 0) {
+                if (weighted) {
                     // The sampled light vertex, with the light subpath's densities as stand-ins.
                     PathVertex y0;
                     y0.kind = VertexKind::Light;
@@ -374,7 +376,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Connection conn = connectVertices(scene, pt, qs, stats);
                 if (isBlack(conn.T)) continue;
                 contrib = pt.beta * fz * conn.T * fy * qs.beta / (dist * dist);
-                if (options_.onlyS < 0) {
+                if (weighted) {
                     Scoped<float> a, b, c, e;
                     a.set(&pt.pdfRev, solidAngleToArea(pt, -w, directionPdf(scene, qs, qs.wo, -w, width, height), dist) *
                                           conn.freeFlightToA);

@@ -11,8 +11,11 @@ enum class MisHeuristic { Balance, Power };
 struct BdptOptions {
     int maxDepth = -1;  // most scattering events on a full path; −1 = unlimited
     MisHeuristic heuristic = MisHeuristic::Power;
-    // Debugging and tests: only the strategy (s, t) contributes, unweighted (s = −1: all, weighted).
+    // Debugging and tests: only the strategy (s, t) contributes (s = −1: all), unweighted
+    // unless `weighted`. Random numbers are drawn the same way whichever strategy is kept, so
+    // the weighted images of all strategies add up to the full image for the same seed.
     int onlyS = -1, onlyT = -1;
+    bool weighted = false;
 };
 
 class BdptIntegrator : public SplattingIntegrator {

@@ -70,22 +70,6 @@ Spectrum emitted(const Scene& scene, const PathVertex& v, Vec3 w) {
     }
 }
 
-// Solid-angle density with which vertex v, reached from direction wFrom (unit, pointing
-// away from v towards where its path came from), continues in direction wTo.
-float directionPdf(const Scene& scene, const PathVertex& v, Vec3 wFrom, Vec3 wTo, int width, int height) {
-    switch (v.kind) {
-    case VertexKind::Camera: return cameraPdfDir(scene.camera(), wTo, width, height);
-    case VertexKind::Light: {
-        float pos, dir;
-        emissionPdf(scene, scene.lights()[v.light], v.p, v.ng, wTo, &pos, &dir);
-        return dir;
-    }
-    case VertexKind::Medium: return hgPhase(dot(-wFrom, wTo), v.medium->g);
-    case VertexKind::Surface: return v.delta || v.mesh < 0 ? 0.0f : vertexBsdf(scene, v).pdf(wFrom, wTo);
-    }
-    return 0.0f;
-}
-
 // f·|cos| (surface), phase (medium) for light arriving from wIn and leaving along wOut
 // towards the camera side. Light subpaths evaluate the adjoint (shading-normal correction).
 Spectrum scatter(const Scene& scene, const PathVertex& v, Vec3 wCamera, Vec3 wLight, TransportMode mode) {
@@ -161,7 +145,7 @@ int generateCameraSubpath(const Scene& scene, float fx, float fy, int width, int
     z0.ng = cam.forward;
     z0.media = scene.cameraMedia();
     z0.beta = Spectrum(1.0f);  // We·cosθ / p_dir = 1 for the pinhole
-    WalkStart start{ray, scene.cameraMedia(), Spectrum(1.0f), cameraPdfDir(cam, ray.d, width, height)};
+    WalkStart start{ray, scene.cameraMedia(), Spectrum(1.0f), cameraPdfDir(cam, ray.d, width, height), width, height};
     return randomWalk(scene, start, TransportMode::Radiance, maxScatter, sampler, path, kMaxVertices, stats);
 }
 
@@ -221,7 +205,7 @@ int generateLightSubpath(const Scene& scene, int maxScatter, Sampler& sampler, P
     float cosLight = dot(es.n, es.n) > 0 ? std::abs(dot(es.n, es.d)) : 1.0f;
     Spectrum beta = es.Le * (cosLight / (pick * es.pdfPos * es.pdfDir));
     Vec3 origin = dot(es.n, es.n) > 0 ? offsetOrigin(es.p, es.n, es.d) : es.p;
-    WalkStart start{Ray{origin, es.d, kInfinity}, media, beta, directional ? 1.0f : es.pdfDir};
+    WalkStart start{Ray{origin, es.d, kInfinity}, media, beta, directional ? 1.0f : es.pdfDir, 0, 0};
     int n = randomWalk(scene, start, TransportMode::Importance, maxScatter, sampler, path, kMaxVertices, stats);
     if (directional && n > 1) {
         // Parallel rays: the disk's area density projects onto y1 with |cos| and no 1/d².
@@ -274,6 +258,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 a.set(&pt.pdfRev, pick * pos);
                 b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, dir, pt.edgeDist) * pt.edgeRevFreeFlight);
                 if (weighted) weight = misWeight(light, camera, 0, t, options_.heuristic);
+                if (options_.observer) options_.observer->onWeight(light, 0, camera, t, weight);
             } else if (t == 1) {
                 // Light tracing: connect y(s−1) to the pinhole and splat.
                 PathVertex& qs = light[s - 1];
@@ -302,10 +287,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     a.set(&qs.pdfRev, solidAngleToArea(qs, toCam, pCam, cc.dist) * conn.freeFlightToA);
                     if (s > 1) {
                         PathVertex& qsm = light[s - 2];
-                        b.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, directionPdf(scene, qs, toCam, qs.wo, width, height),
+                        b.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, toCam, qs.wo, width, height),
                                                             qs.edgeDist) * qs.edgeRevFreeFlight);
                     }
                     weight = misWeight(light, camera, s, 1, options_.heuristic);
+                    if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight);
                 }
                 if (std::isfinite(weight)) splats.splat(cc.fx, cc.fy, value * weight, width, height);
                 continue;
@@ -321,7 +307,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Spectrum f = scatter(scene, pt, pt.wo, ls.wi, TransportMode::Radiance);
                 if (isBlack(f)) continue;
                 Vec3 o = pt.isSurface() ? offsetOrigin(pt.p, pt.ng, ls.wi) : pt.p;
-                float dist = std::isinf(ls.dist) ? ls.dist : ls.dist * (1.0f - 1e-4f) - rayEpsilon(ls.p);
+                // Stop just short of an emitting surface so it does not shadow itself.
+                bool surfaceLight = l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
+                float dist = surfaceLight ? ls.dist - rayEpsilon(ls.p) : ls.dist;
                 Connection conn = connectPoints(scene, o, ls.wi, dist, mediaTowards(scene, pt, ls.wi), pt.isMedium(),
                                                 false, l.kind == LightKind::Sphere ? li : -1, stats);
                 if (isBlack(conn.T)) continue;
@@ -333,6 +321,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     y0.light = li;
                     y0.p = ls.p;
                     y0.deltaLight = ls.isDelta;
+                    y0.media = scene.lightMedia(li);
                     if (l.kind == LightKind::Sphere) y0.ng = normalize(ls.p - l.position);
                     if (l.kind == LightKind::Triangle) {
                         const Mesh& mesh = scene.mesh(l.mesh);
@@ -347,7 +336,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     y0.pdfFwd = directional ? pick : pick * pos;
                     float d = std::isinf(ls.dist) ? 1.0f : ls.dist;
                     y0.pdfRev = ls.isDelta ? 0.0f
-                                           : solidAngleToArea(y0, ls.wi, directionPdf(scene, pt, pt.wo, ls.wi, width, height), d) *
+                                           : solidAngleToArea(y0, ls.wi, vertexDirectionPdf(scene, pt, pt.wo, ls.wi, width, height), d) *
                                                  conn.freeFlightToB;
                     PathVertex* lightPath = &y0;
                     Scoped<float> a, b;
@@ -357,10 +346,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     a.set(&pt.pdfRev, ptRev);
                     if (t > 1) {
                         PathVertex& ptm = camera[t - 2];
-                        b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, directionPdf(scene, pt, ls.wi, pt.wo, width, height),
+                        b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, vertexDirectionPdf(scene, pt, ls.wi, pt.wo, width, height),
                                                             pt.edgeDist) * pt.edgeRevFreeFlight);
                     }
                     weight = misWeight(lightPath, camera, 1, t, options_.heuristic);
+                    if (options_.observer) options_.observer->onWeight(lightPath, 1, camera, t, weight);
                 }
             } else {
                 // Two subpaths joined by a deterministic connection.
@@ -378,17 +368,18 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 contrib = pt.beta * fz * conn.T * fy * qs.beta / (dist * dist);
                 if (weighted) {
                     Scoped<float> a, b, c, e;
-                    a.set(&pt.pdfRev, solidAngleToArea(pt, -w, directionPdf(scene, qs, qs.wo, -w, width, height), dist) *
+                    a.set(&pt.pdfRev, solidAngleToArea(pt, -w, vertexDirectionPdf(scene, qs, qs.wo, -w, width, height), dist) *
                                           conn.freeFlightToA);
-                    b.set(&qs.pdfRev, solidAngleToArea(qs, w, directionPdf(scene, pt, pt.wo, w, width, height), dist) *
+                    b.set(&qs.pdfRev, solidAngleToArea(qs, w, vertexDirectionPdf(scene, pt, pt.wo, w, width, height), dist) *
                                           conn.freeFlightToB);
                     PathVertex& ptm = camera[t - 2];
-                    c.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, directionPdf(scene, pt, w, pt.wo, width, height),
+                    c.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, vertexDirectionPdf(scene, pt, w, pt.wo, width, height),
                                                         pt.edgeDist) * pt.edgeRevFreeFlight);
                     PathVertex& qsm = light[s - 2];
-                    e.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, directionPdf(scene, qs, -w, qs.wo, width, height),
+                    e.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, -w, qs.wo, width, height),
                                                         qs.edgeDist) * qs.edgeRevFreeFlight);
                     weight = misWeight(light, camera, s, t, options_.heuristic);
+                    if (options_.observer) options_.observer->onWeight(light, s, camera, t, weight);
                 }
             }
             if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;

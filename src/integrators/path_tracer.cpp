@@ -64,9 +64,10 @@ float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const M
 bool usesDensity(ConnectMode m, const Light& l) { return m != ConnectMode::EquiAngular || l.kind == LightKind::Directional; }
 bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
 
-// Shadow-ray distance: stop short of the light's own surface so it does not shadow itself.
+// Shadow-ray distance: stop short of an emitting surface so it does not shadow itself; a
+// point has no surface and a directional light is at infinity.
 float shadowDistance(const LightSample& ls) {
-    return std::isinf(ls.dist) ? ls.dist : ls.dist * (1.0f - 1e-4f) - rayEpsilon(ls.p);
+    return ls.isDelta ? ls.dist : ls.dist - rayEpsilon(ls.p);
 }
 
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.

@@ -10,8 +10,57 @@ namespace brume {
 //   forward  = Π_{k<n} P_pass,k · (next is a medium point ? p_scatter,n : P_pass,n)
 //   reverse  = Π_{k>1} P_pass,k · (prev is a medium point ? p_scatter,1 : P_pass,1)
 // the reverse being the density with which a walk from next back to prev would stop at prev.
+namespace {
+
+int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+         PathVertex* path, int maxVertices, PathStats& stats);
+
+// Directional densities of every edge, from the vertex positions: rays leave surfaces from
+// offset origins, so the sampled direction differs slightly from the edge's own direction,
+// and MIS needs densities that are functions of the path alone (every strategy must see the
+// same numbers for the same path). Free-flight densities come from the walk (per edge).
+void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, int height) {
+    for (int i = 1; i < count; ++i) {  // wo along the edge itself, not the offset ray
+        Vec3 back = path[i - 1].p - path[i].p;
+        float len = length(back);
+        if (len > 0) path[i].wo = back / len;
+        path[i].edgeDist = len;
+    }
+    for (int i = 1; i < count; ++i) {
+        PathVertex& prev = path[i - 1];
+        PathVertex& v = path[i];
+        Vec3 toV = v.p - prev.p;
+        float dist = length(toV);
+        if (!(dist > 0)) {
+            v.pdfFwd = prev.pdfRev = 0;
+            continue;
+        }
+        Vec3 w = toV / dist;
+        Vec3 prevFrom = i >= 2 ? normalize(path[i - 2].p - prev.p) : prev.wo;
+        if (!prev.delta)
+            v.pdfFwd = solidAngleToArea(v, w, vertexDirectionPdf(scene, prev, prevFrom, w, width, height), dist) *
+                       v.edgeFwdFreeFlight;
+        if (i + 1 < count && !v.delta) {
+            Vec3 vFrom = normalize(path[i + 1].p - v.p);
+            prev.pdfRev = solidAngleToArea(prev, w, vertexDirectionPdf(scene, v, vFrom, -w, width, height), dist) *
+                          v.edgeRevFreeFlight;
+        }
+    }
+}
+
+}  // namespace
+
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats) {
+    int count = walk(scene, start, mode, maxScatter, sampler, path, maxVertices, stats);
+    edgeDensities(scene, path, count, start.width, start.height);
+    return count;
+}
+
+namespace {
+
+int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+         PathVertex* path, int maxVertices, PathStats& stats) {
     Ray ray = start.ray;
     MediumStack media = start.media;
     Spectrum beta = start.beta;
@@ -124,5 +173,7 @@ int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, i
     }
     return count;
 }
+
+}  // namespace
 
 }  // namespace brume

@@ -8,6 +8,16 @@ namespace brume {
 
 enum class MisHeuristic { Balance, Power };
 
+struct PathVertex;
+
+// Tests: told of every weighted contribution, with the two subpaths as joined (for s = 1 the
+// light "subpath" is the sampled light vertex alone).
+class BdptObserver {
+public:
+    virtual ~BdptObserver() = default;
+    virtual void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight) const = 0;
+};
+
 struct BdptOptions {
     int maxDepth = -1;  // most scattering events on a full path; −1 = unlimited
     MisHeuristic heuristic = MisHeuristic::Power;
@@ -16,6 +26,7 @@ struct BdptOptions {
     // the weighted images of all strategies add up to the full image for the same seed.
     int onlyS = -1, onlyT = -1;
     bool weighted = false;
+    const BdptObserver* observer = nullptr;
 };
 
 class BdptIntegrator : public SplattingIntegrator {

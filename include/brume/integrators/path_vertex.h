@@ -52,6 +52,11 @@ inline float solidAngleToArea(const PathVertex& to, Vec3 w, float pdfDir, float 
 
 namespace brume {
 
+// Solid-angle density with which vertex v, reached from direction wFrom (unit, pointing away
+// from v towards where its path came from), continues in direction wTo: camera, emission,
+// phase function or BSDF (0 for a specular surface and for sphere lights, which end paths).
+float vertexDirectionPdf(const Scene& scene, const PathVertex& v, Vec3 wFrom, Vec3 wTo, int width, int height);
+
 // The BSDF of a surface vertex (base colour texture applied).
 inline Bsdf vertexBsdf(const Scene& scene, const PathVertex& v) {
     const Material& m = scene.material(v.mesh);

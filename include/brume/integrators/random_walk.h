@@ -11,6 +11,7 @@ struct WalkStart {
     MediumStack media;   // media the ray starts in
     Spectrum beta;       // throughput after path[0] and the direction choice
     float pdfDir = 0;    // solid-angle density of ray.d at path[0]
+    int width = 0, height = 0;  // the image, for the camera's direction density
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

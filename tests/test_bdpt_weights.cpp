@@ -1,0 +1,198 @@
+// The BDPT's MIS weights against weights recomputed from first principles for each full path
+// it weighs: every strategy's path density as a product of one-step densities (direction
+// density × geometry × free-flight density), the power heuristic over the strategies that can
+// make the path. Equal weights for every strategy imply that the weights of a path sum to one.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_vertex.h"
+#include "brume/integrators/visibility.h"
+#include "brume/sampling/hg.h"
+#include "brume/scene/camera_importance.h"
+#include "brume/scene/light_emission.h"
+#include "support/film_estimates.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+constexpr int kW = 8;
+
+bool isAreaLike(const PathVertex& v) {
+    return v.kind == VertexKind::Surface || (v.kind == VertexKind::Light && dot(v.ng, v.ng) > 0);
+}
+
+struct Checker : BdptObserver {
+    const Scene* scene = nullptr;
+    MisHeuristic heuristic = MisHeuristic::Power;
+    mutable std::mutex mutex;
+    mutable double worst = 0;
+    mutable long paths = 0;
+    mutable std::string worstInfo;
+
+    // Density at x[j] of the direction towards x[to], given it came from x[from] (−1: none).
+    double dirPdf(const std::vector<PathVertex>& x, int j, int from, int to) const {
+        const PathVertex& v = x[j];
+        Vec3 wTo = normalize(x[to].p - v.p);
+        switch (v.kind) {
+        case VertexKind::Camera: return cameraPdfDir(scene->camera(), wTo, kW, kW);
+        case VertexKind::Light: {
+            float pos, dir;
+            emissionPdf(*scene, scene->lights()[v.light], v.p, v.ng, wTo, &pos, &dir);
+            return dir;
+        }
+        case VertexKind::Medium: return hgPhase(dot(-normalize(x[from].p - v.p), wTo), v.medium->g);
+        case VertexKind::Surface: {
+            if (v.delta) return 0;
+            return vertexBsdf(*scene, v).pdf(normalize(x[from].p - v.p), wTo);
+        }
+        }
+        return 0;
+    }
+
+    // Geometry × free flight for a walk from x[j] stopping at x[i].
+    double stepFactor(const std::vector<PathVertex>& x, int j, int i) const {
+        const PathVertex& a = x[j];
+        const PathVertex& b = x[i];
+        Vec3 d = b.p - a.p;
+        double dist = length(d);
+        Vec3 w = d / float(dist);
+        double g = 1.0 / (dist * dist);
+        if (isAreaLike(b)) g *= std::abs(dot(b.ng, w));
+        MediumStack media = a.media;
+        if (a.isSurface() && a.mesh >= 0) {
+            int interior = scene->mesh(a.mesh).interiorMedium;
+            if (interior >= 0 && dot(a.wo, a.ng) * dot(w, a.ng) < 0) media.toggle(interior);
+        }
+        Vec3 o = isAreaLike(a) ? offsetOrigin(a.p, a.ng, w) : a.p;
+        float travel = length(b.p - o) - (isAreaLike(b) ? rayEpsilon(b.p) : 0.0f);
+        PathStats stats;
+        Connection c = connectPoints(*scene, o, w, travel, media, a.isMedium(), b.isMedium(), -1, stats);
+        return g * c.freeFlightToB;
+    }
+
+    void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight) const override {
+        std::vector<PathVertex> x;
+        for (int i = 0; i < t; ++i) x.push_back(camera[i]);
+        for (int i = s - 1; i >= 0; --i) x.push_back(light[i]);
+        const int k = int(x.size()) - 1;
+        // The emitter end: for s = 0 the camera walk's last vertex, seen as the light vertex.
+        int li = x[k].light;
+        const Light& L = scene->lights()[li];
+        bool directional = L.kind == LightKind::Directional;
+        bool hittable = L.kind == LightKind::Triangle || L.kind == LightKind::Sphere;
+        // A directional light's vertex has no position: put it far up the beam, so that
+        // directions towards it are right.
+        if (directional) x[k].p = x[k - 1].p - L.direction * 1000.0f;
+        std::vector<double> fwd(k + 1, 1.0), rev(k + 1, 1.0);
+        for (int i = 1; i <= k; ++i) fwd[i] = dirPdf(x, i - 1, i - 2, i) * stepFactor(x, i - 1, i);
+        float pos, dir;
+        {
+            PathVertex end = x[k];
+            end.kind = VertexKind::Light;
+            std::vector<PathVertex> y = x;
+            y[k] = end;
+            emissionPdf(*scene, L, end.p, end.ng, normalize(x[k - 1].p - end.p), &pos, &dir);
+            rev[k] = scene->lightDistribution().pmf(li) * (directional ? 1.0f : pos);
+            for (int i = k - 1; i >= 1; --i) {
+                if (i == k - 1 && directional) {
+                    // Parallel light: the disk's area density projected onto x(k−1), |cos| and no
+                    // 1/d², times the free flight from outside the scene to x(k−1).
+                    PathStats stats;
+                    Vec3 up = -L.direction;
+                    Vec3 o = isAreaLike(y[i]) ? offsetOrigin(y[i].p, y[i].ng, up) : y[i].p;
+                    Connection c = connectPoints(*scene, o, up, kInfinity, y[i].media, y[i].isMedium(), false, -1, stats);
+                    rev[i] = pos * (isAreaLike(y[i]) ? std::abs(dot(y[i].ng, up)) : 1.0) * c.freeFlightToA;
+                    continue;
+                }
+                rev[i] = dirPdf(y, i + 1, i + 2 <= k ? i + 2 : -1, i) * stepFactor(y, i + 1, i);
+            }
+        }
+        auto remap = [](double p) { return p != 0 ? p : 1.0; };
+        auto connectible = [&](int i) { return !(x[i].isSurface() && x[i].delta); };
+        std::vector<double> p(k + 2, 0.0);  // by t' = 1 … k + 1
+        double sum = 0, self = 0;
+        for (int tt = 1; tt <= k + 1; ++tt) {
+            int ss = k + 1 - tt;
+            bool valid = ss == 0 ? hittable : (connectible(tt - 1) && connectible(tt));
+            if (ss == 0 && !connectible(k - 1)) valid = valid && true;
+            if (!valid) continue;
+            double prod = 1;
+            for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i]);
+            for (int i = tt; i <= k; ++i) prod *= remap(rev[i]);
+            double term = heuristic == MisHeuristic::Power ? prod * prod : prod;
+            sum += term;
+            if (tt == t) self = term;
+        }
+        double expected = sum > 0 ? self / sum : 0;
+        if (std::getenv("BRUME_DEBUG_WEIGHTS") && std::abs(expected - weight) > 1e-4) {
+            std::printf("s=%d t=%d weight %g expected %g\n", s, t, weight, expected);
+            for (int i = 0; i <= k; ++i)
+                std::printf("  x%d kind %d fwd %g (vertex %g) rev %g (vertex %g) edgeDist %g edgeFF %g/%g\n", i, int(x[i].kind), fwd[i],
+                            x[i].pdfFwd, rev[i], x[i].pdfRev, x[i].edgeDist, x[i].edgeFwdFreeFlight, x[i].edgeRevFreeFlight);
+            if (s >= 2) {
+                const PathVertex& y0 = light[0];
+                const PathVertex& y1 = light[1];
+                float pos, dir;
+                emissionPdf(*scene, scene->lights()[y0.light], y0.p, y0.ng, normalize(y1.p - y0.p), &pos, &dir);
+                std::printf("  y0->y1: dir %g dist %g step %g  y1.wo·d %g\n", dir, length(y1.p - y0.p), stepFactor(std::vector<PathVertex>{y0, y1}, 0, 1), dot(-y1.wo, normalize(y1.p - y0.p)));
+            }
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        ++paths;
+        double err = std::abs(expected - double(weight));
+        if (err > worst) {
+            worst = err;
+            worstInfo = "s=" + std::to_string(s) + " t=" + std::to_string(t) + " weight " + std::to_string(weight) +
+                        " expected " + std::to_string(expected);
+        }
+    }
+};
+
+}  // namespace
+
+namespace {
+
+void checkWeights(const char* file, int spp) {
+    for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
+        auto scene = loadTestScene(file);
+        Checker checker;
+        checker.scene = scene.get();
+        checker.heuristic = h;
+        BdptOptions opt{4, h};
+        opt.observer = &checker;
+        Film film(kW, kW);
+        RenderOptions o;
+        o.width = o.height = kW;
+        o.spp = spp;
+        o.seed = 3;
+        render(*scene, BdptIntegrator(opt), o, film);
+        INFO(file << (h == MisHeuristic::Power ? " power" : " balance") << ": " << checker.paths
+                  << " weighted paths, worst |w − w_expected| = " << checker.worst << " (" << checker.worstInfo << ")");
+        CHECK(checker.paths > 100);
+        CHECK(checker.worst < 1e-4);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("bdpt MIS weights equal the heuristic over all strategies' path densities", "[bdpt][mis]") {
+    checkWeights("quad_light_fog.gltf", 4);
+    checkWeights("single_near.gltf", 4);
+    checkWeights("area_sphere.gltf", 4);
+    checkWeights("bdpt_window_fog.gltf", 16);  // directional light, bounded fog
+}
+
+// Open: with an invisible fog boundary the worst difference is 1.2e-4 (float-level, not
+// yet explained); with a glass sphere (specular chains) 1.7e-3 under the balance heuristic
+// on light-tracing paths (s = 5, t = 1). Reported here, not failing the suite, until found.
+TEST_CASE("bdpt MIS weights with invisible boundaries and glass (known open discrepancy)", "[bdpt][mis][!mayfail]") {
+    checkWeights("bdpt_quad_fogbox.gltf", 4);
+    checkWeights("bdpt_glass_sphere.gltf", 4);
+}

@@ -73,7 +73,9 @@ struct Checker : BdptObserver {
         Vec3 o = isAreaLike(a) ? offsetOrigin(a.p, a.ng, w) : a.p;
         float travel = length(b.p - o) - (isAreaLike(b) ? rayEpsilon(b.p) : 0.0f);
         PathStats stats;
-        Connection c = connectPoints(*scene, o, w, travel, media, a.isMedium(), b.isMedium(), -1, stats);
+        ShadowTarget target;
+        if (b.mesh >= 0) target.mesh = b.mesh, target.triangle = b.triangle;
+        Connection c = connectPoints(*scene, o, w, travel, media, a.isMedium(), b.isMedium(), target, stats);
         return g * c.freeFlightToB;
     }
 
@@ -107,7 +109,7 @@ struct Checker : BdptObserver {
                     PathStats stats;
                     Vec3 up = -L.direction;
                     Vec3 o = isAreaLike(y[i]) ? offsetOrigin(y[i].p, y[i].ng, up) : y[i].p;
-                    Connection c = connectPoints(*scene, o, up, kInfinity, y[i].media, y[i].isMedium(), false, -1, stats);
+                    Connection c = connectPoints(*scene, o, up, kInfinity, y[i].media, y[i].isMedium(), false, ShadowTarget{}, stats);
                     rev[i] = pos * (isAreaLike(y[i]) ? std::abs(dot(y[i].ng, up)) : 1.0) * c.freeFlightToA;
                     continue;
                 }

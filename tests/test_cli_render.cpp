@@ -135,7 +135,7 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --time 1 --spp 4", "--time"},
         {data("empty.gltf") + " -o " + out + " --seed x", "--seed"},
         {data("empty.gltf") + " -o " + out + " --max-depth -2", "--max-depth"},
-        {data("empty.gltf") + " -o " + out + " --integrator bdpt", "bdpt"},
+        {data("empty.gltf") + " -o " + out + " --integrator nope", "bdpt"},
         {data("empty.gltf") + " -o " + out + " --connect sometimes", "sometimes"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},

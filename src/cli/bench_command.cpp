@@ -540,7 +540,9 @@ int runBench(const std::vector<std::string>& argv) {
             const double cpu = processCpuSeconds() - cpuBefore;
             if (interrupted()) return kExitInterrupted;
             // Equal-time comparisons assume the threads had the machine to themselves.
-            const int workers = std::min(threads, ((res.width + 15) / 16) * ((res.height + 15) / 16));
+            // (More threads than cores or than 16x16 tiles cannot all be busy.)
+            const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+            const int workers = std::min({threads, cores, ((res.width + 15) / 16) * ((res.height + 15) / 16)});
             const double busy = cpu / (std::max(stats.seconds, 1e-9) * workers);
             if (busy < 0.8)
                 std::fprintf(stderr,

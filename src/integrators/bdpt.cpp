@@ -112,8 +112,10 @@ Connection connectVertices(const Scene& scene, const PathVertex& a, const PathVe
     Vec3 o = offsetFrom(a, d);
     float shorten = onSurfaceOrAreaLight(b) ? rayEpsilon(b.p) : 0.0f;
     float travel = length(b.p - o) - shorten;
-    int ignore = b.light >= 0 && b.mesh < 0 ? b.light : -1;
-    return connectPoints(scene, o, d, travel, mediaTowards(scene, a, d), a.isMedium(), b.isMedium(), ignore, stats);
+    ShadowTarget target;
+    if (b.light >= 0 && b.mesh < 0) target.sphereLight = b.light;
+    if (b.mesh >= 0) target.mesh = b.mesh, target.triangle = b.triangle;
+    return connectPoints(scene, o, d, travel, mediaTowards(scene, a, d), a.isMedium(), b.isMedium(), target, stats);
 }
 
 // Σ over strategies of (p_strategy / p_this)^β via the ratio recursion, with the reverse
@@ -311,7 +313,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 bool surfaceLight = l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
                 float dist = surfaceLight ? ls.dist - rayEpsilon(ls.p) : ls.dist;
                 Connection conn = connectPoints(scene, o, ls.wi, dist, mediaTowards(scene, pt, ls.wi), pt.isMedium(),
-                                                false, l.kind == LightKind::Sphere ? li : -1, stats);
+                                                false, lightTarget(scene, li), stats);
                 if (isBlack(conn.T)) continue;
                 contrib = pt.beta * f * ls.Le * conn.T / (pick * ls.pdf);
                 if (weighted) {

@@ -97,7 +97,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     }
     if (w == 0) return Spectrum(0.0f);
     Vec3 o = v.bsdf ? offsetOrigin(v.p, v.ng, ls.wi) : v.p;
-    Spectrum T = transmittanceAlong(scene, o, ls.wi, shadowDistance(ls), media, li, stats);
+    Spectrum T = transmittanceAlong(scene, o, ls.wi, shadowDistance(ls), media, lightTarget(scene, li), stats);
     return f * ls.Le * T * (w / (pick * ls.pdf));
 }
 
@@ -135,7 +135,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;
     float w = powerWeight(pC, pA, pB);
     if (w == 0) return Spectrum(0.0f);
-    Spectrum T = transmittanceAlong(scene, x, ls.wi, shadowDistance(ls), media, li, stats);
+    Spectrum T = transmittanceAlong(scene, x, ls.wi, shadowDistance(ls), media, lightTarget(scene, li), stats);
     if (isBlack(T)) return T;
     return transmittance(sigmaT, origin.t) * m.sigmaS * ls.Le * T * (phase * w / pC);
 }

@@ -4,8 +4,16 @@
 
 namespace brume {
 
-Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, int ignoreLight,
-                            PathStats& stats) {
+ShadowTarget lightTarget(const Scene& scene, int index) {
+    ShadowTarget t;
+    const Light& l = scene.lights()[index];
+    if (l.kind == LightKind::Sphere) t.sphereLight = index;
+    if (l.kind == LightKind::Triangle) t.mesh = l.mesh, t.triangle = l.triangle;
+    return t;
+}
+
+Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media,
+                            const ShadowTarget& target, PathStats& stats) {
     if (!scene.hasInvisibleBoundaries()) {
         // Nothing to pass through: one medium all the way, one occlusion query (skipped when
         // the medium alone already absorbs everything, as over an infinite distance).
@@ -13,14 +21,14 @@ Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, Medi
         Spectrum T = m ? transmittance(m->sigmaT(), dist) : Spectrum(1.0f);
         if (isBlack(T)) return T;
         ++stats.rays;
-        return scene.occluded(Ray{o, d, dist}, ignoreLight) ? Spectrum(0.0f) : T;
+        return scene.occluded(Ray{o, d, dist}, target.sphereLight) ? Spectrum(0.0f) : T;
     }
     Spectrum T(1.0f);
     float remaining = dist;
     for (int crossings = 0; crossings < 64; ++crossings) {
         ++stats.rays;
         SurfaceHit hit = scene.intersect(Ray{o, d, remaining});
-        if (hit.sphereLight >= 0 && hit.sphereLight == ignoreLight) hit = SurfaceHit{};
+        if (hit.valid() && target.is(hit)) hit = SurfaceHit{};
         const Medium* m = scene.medium(media.current());
         float segment = hit.valid() ? hit.t : remaining;
         if (m) T *= transmittance(m->sigmaT(), segment);
@@ -42,7 +50,7 @@ Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, Medi
 namespace brume {
 
 Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, bool aIsMedium,
-                         bool bIsMedium, int ignoreLight, PathStats& stats) {
+                         bool bIsMedium, const ShadowTarget& target, PathStats& stats) {
     Connection c;
     // Per sub-segment (between invisible boundaries) in medium σt over length ℓ:
     //   pass = avg_c e^(−σt,c ℓ), scatter = avg_c σt,c e^(−σt,c ℓ).
@@ -62,7 +70,7 @@ Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumS
     for (int crossings = 0; crossings < 64; ++crossings) {
         ++stats.rays;
         SurfaceHit hit = scene.intersect(Ray{o, d, remaining});
-        if (hit.sphereLight >= 0 && hit.sphereLight == ignoreLight) hit = SurfaceHit{};
+        if (hit.valid() && target.is(hit)) hit = SurfaceHit{};
         const Medium* m = scene.medium(media.current());
         if (!hit.valid()) {
             account(m, remaining, true);

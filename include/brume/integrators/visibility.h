@@ -12,11 +12,27 @@ inline Vec3 offsetOrigin(Vec3 p, Vec3 ng, Vec3 d) {
     return p + ng * (dot(ng, d) >= 0 ? eps : -eps);
 }
 
+// What a shadow ray aims at: a triangle (mesh, triangle) or a sphere light. A hit on it
+// counts as arriving, not as a blocker, so rounding in the distance (which grows with every
+// invisible boundary crossed) cannot make a surface shadow itself.
+struct ShadowTarget {
+    int mesh = -1, triangle = -1;
+    int sphereLight = -1;
+    bool is(const SurfaceHit& h) const {
+        return (sphereLight >= 0 && h.sphereLight == sphereLight) ||
+               (mesh >= 0 && h.mesh == mesh && h.triangle == triangle);
+    }
+};
+
+// The target of a shadow ray towards light `index` (its triangle or sphere; none for point,
+// spot and directional lights).
+ShadowTarget lightTarget(const Scene& scene, int index);
+
 // Transmittance from o along unit d over distance dist (+∞ allowed), starting in `media`.
-// Zero if a surface other than an invisible boundary, or a sphere light other than
-// ignoreLight, lies in between. Each ray traced is counted in stats.
+// Zero if anything but an invisible boundary or the target lies in between. Each ray traced
+// is counted in stats.
 Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media,
-                            int ignoreLight, PathStats& stats);
+                            const ShadowTarget& target, PathStats& stats);
 
 }  // namespace brume
 
@@ -36,6 +52,6 @@ struct Connection {
 // (shortened so as not to hit b's own surface). aIsMedium/bIsMedium: whether the ends are
 // medium points. Blocked or fully absorbed: T = 0.
 Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumStack media, bool aIsMedium,
-                         bool bIsMedium, int ignoreLight, PathStats& stats);
+                         bool bIsMedium, const ShadowTarget& target, PathStats& stats);
 
 }  // namespace brume

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "brume/cli/commands.h"
+#include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/film.h"
 #include "brume/render/image_io.h"
@@ -88,6 +89,8 @@ const BenchMethod kMethods[] = {
      [] { return pathTracer(ConnectMode::EquiAngular); }},
     {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling",
      [] { return pathTracer(ConnectMode::Mis); }},
+    {"bdpt:density", true, "bidirectional path tracer, free-flight vertices only (plain BDPT)",
+     [] { return std::unique_ptr<Integrator>(std::make_unique<BdptIntegrator>(BdptOptions{})); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";

@@ -265,6 +265,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 // Light tracing: connect y(s−1) to the pinhole and splat.
                 PathVertex& qs = light[s - 1];
                 if (qs.kind != VertexKind::Light && !scatters(qs)) continue;
+                // A point or spot light is not imaged directly (nor is it by pt, or by pbrt's
+                // bdpt, which skips (1, 1) altogether): only the light it sends out is seen.
+                if (s == 1 && qs.deltaLight) continue;
                 CameraConnection cc;
                 if (!connectToCamera(cam, qs.p, width, height, &cc)) continue;
                 Vec3 toCam = cc.wi;

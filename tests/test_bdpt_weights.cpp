@@ -189,12 +189,13 @@ TEST_CASE("bdpt MIS weights equal the heuristic over all strategies' path densit
     checkWeights("single_near.gltf", 4);
     checkWeights("area_sphere.gltf", 4);
     checkWeights("bdpt_window_fog.gltf", 16);  // directional light, bounded fog
+    checkWeights("bdpt_glass_sphere.gltf", 4);  // specular chains, spot light
 }
 
-// Open: with an invisible fog boundary the worst difference is 1.2e-4 (float-level, not
-// yet explained); with a glass sphere (specular chains) 1.7e-3 under the balance heuristic
-// on light-tracing paths (s = 5, t = 1). Reported here, not failing the suite, until found.
-TEST_CASE("bdpt MIS weights with invisible boundaries and glass (known open discrepancy)", "[bdpt][mis][!mayfail]") {
+// Open: with the camera outside an invisible fog boundary, light-tracing paths (t = 1) show
+// up to 1.2e-4: the camera's density for the floor vertex differs by 2e-4 relative between
+// the integrator's connection (floor → camera) and the checker's (camera → floor), as if the
+// fog length differed by ~4e-4 m. Reported here, not failing the suite, until found.
+TEST_CASE("bdpt MIS weights through an invisible boundary (known open discrepancy)", "[bdpt][mis][!mayfail]") {
     checkWeights("bdpt_quad_fogbox.gltf", 4);
-    checkWeights("bdpt_glass_sphere.gltf", 4);
 }

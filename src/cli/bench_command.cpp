@@ -75,6 +75,12 @@ std::unique_ptr<Integrator> pathTracer(ConnectMode connect) {
     return std::make_unique<PathTracer>(options);
 }
 
+std::unique_ptr<Integrator> bdpt(ConnectMode connect) {
+    BdptOptions options;
+    options.connect = connect;
+    return std::make_unique<BdptIntegrator>(options);
+}
+
 struct BenchMethod {
     const char* name;
     bool byDefault;  // part of the default --methods list
@@ -90,7 +96,11 @@ const BenchMethod kMethods[] = {
     {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling",
      [] { return pathTracer(ConnectMode::Mis); }},
     {"bdpt:density", true, "bidirectional path tracer, free-flight vertices only (plain BDPT)",
-     [] { return std::unique_ptr<Integrator>(std::make_unique<BdptIntegrator>(BdptOptions{})); }},
+     [] { return bdpt(ConnectMode::Density); }},
+    {"bdpt:equiangular", true, "bidirectional path tracer, equi-angular light connections",
+     [] { return bdpt(ConnectMode::EquiAngular); }},
+    {"bdpt:mis", true, "bidirectional path tracer, both connection variants MIS-weighted",
+     [] { return bdpt(ConnectMode::Mis); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";

@@ -39,7 +39,8 @@ const char* const kRenderUsage =
     "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
     "  --no-nee             no next-event estimation (BSDF/phase sampling only)\n"
     "  --connect MODE       light connections on medium segments: density (from the\n"
-    "                       free-flight point), equiangular, or mis (both; the default)\n"
+    "                       free-flight point), equiangular, or mis (both; the default);\n"
+    "                       for bdpt: equi-angular variants of connection vertices\n"
     "  --res WxH            image size (default 640 wide, height from the camera's aspect\n"
     "                       ratio, 640x480 without one)\n"
     "  --seed N             random seed (default 0); the same seed gives the same image\n"
@@ -191,6 +192,7 @@ int runRender(const std::vector<std::string>& argv) {
     BdptOptions bdptOptions;
     bdptOptions.maxDepth = a.maxDepth;
     bdptOptions.heuristic = a.heuristic;
+    bdptOptions.connect = a.connect;
     std::unique_ptr<Integrator> integratorPtr;
     if (a.integrator == "bdpt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);

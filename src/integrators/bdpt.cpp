@@ -2,9 +2,11 @@
 
 #include <vector>
 
+#include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/random_walk.h"
 #include "brume/integrators/visibility.h"
+#include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
@@ -26,7 +28,7 @@ struct ThreadPaths {
     std::vector<PathVertex> light = std::vector<PathVertex>(kMaxVertices);
 };
 
-float remap0(float f) { return f != 0 ? f : 1.0f; }
+double remap0(double f) { return f != 0 ? f : 1.0; }
 
 // Restores a value when the scope ends: the MIS weight edits vertex densities in place.
 template <class T>
@@ -118,22 +120,128 @@ Connection connectVertices(const Scene& scene, const PathVertex& a, const PathVe
     return connectPoints(scene, o, d, travel, mediaTowards(scene, a, d), a.isMedium(), b.isMedium(), target, stats);
 }
 
-// Σ over strategies of (p_strategy / p_this)^β via the ratio recursion, with the reverse
-// densities of z(t−1), z(t−2), y(s−1), y(s−2) already set for this connection.
-float misWeight(const PathVertex* light, const PathVertex* camera, int s, int t, MisHeuristic h) {
-    auto pw = [h](float r) { return h == MisHeuristic::Power ? r * r : r; };
-    float sum = 0, ri = 1;
+// The equi-angular variant's density relative to the free-flight one, ρ = p_ea / p_ff, for a
+// camera-side medium vertex v reached from p along an edge in one medium and aimed at a
+// (a light vertex aims at its light's anchor: the point of a triangle light, the centre of a
+// sphere light, the position of a point or spot light). A stand-in as docs/mis.md explains:
+// equi-angular over the unbounded ray from p, since the far end is not part of the path.
+double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a) {
+    if (!v.isMedium() || p.delta) return 0.0f;
+    Vec3 anchor = a.p;
+    // A light vertex, or the camera walk's hit on a sphere light (always a path's end).
+    if (a.kind == VertexKind::Light || (a.isSurface() && a.mesh < 0 && a.light >= 0)) {
+        const Light& l = scene.lights()[a.light];
+        if (l.kind == LightKind::Directional) return 0.0f;
+        if (l.kind != LightKind::Triangle) anchor = l.position;
+    }
+    Vec3 e = v.p - p.p;
+    float dist = length(e);
+    if (!(dist > 0)) return 0.0f;
+    double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
+    if (!(pff > 0)) return 0.0;
+    EquiAngular ea = makeEquiAngular(p.p, e / dist, anchor, 0.0f, kInfinity);
+    return double(equiAngularPdf(ea, dist)) / pff;
+}
+
+// The weight of this sample among all strategies and their variants. Ratios r_j = p_j / p_s
+// follow Veach's recursion (as in pbrt-v3), with the reverse densities of z(t−1), z(t−2),
+// y(s−1), y(s−2) already set for this connection. A strategy with s ≥ 1, t ≥ 2 whose last
+// camera vertex is a medium point reached without crossing a boundary has an equi-angular
+// variant of density ρ_j · p_j; it contributes V_j = [free flight on] + [equi-angular on]·ρ_j^β.
+//   w = own / Σ_j r_j^β V_j,  own = ρ_s^β for the equi-angular sample, 1 for the other
+// (for the equi-angular sample everything is divided by ρ_s^β, see below).
+float misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
+                MisHeuristic h, ConnectMode mode, bool ownEquiAngular, bool connectionCrossed) {
+    // In double: an equi-angular point far beyond any free flight has ρ ~ 1e20 and more.
+    auto pw = [h](double r) { return h == MisHeuristic::Power ? r * r : r; };
+    const int k = s + t - 1;  // vertices x0 … xk
+    auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
+    auto crossed = [&](int m) {  // the edge x(m−1)–x(m)
+        if (m < t) return camera[m].edgeCrossed;
+        if (m - 1 >= t) return at(m - 1).edgeCrossed;  // light subpath: stored on its later vertex
+        return connectionCrossed;
+    };
+    // V for the strategy with tt camera vertices; rho is returned for the own strategy.
+    auto variants = [&](int tt, double* rhoOut) {
+        double rho = 0.0;
+        if (mode != ConnectMode::Density && tt >= 2 && k + 1 - tt >= 1 && at(tt - 1).isMedium() && !crossed(tt - 1))
+            rho = equiAngularRatio(scene, at(tt - 2), at(tt - 1), at(tt));
+        if (rhoOut) *rhoOut = rho;
+        bool eaOn = rho > 0;
+        bool ffOn = !(mode == ConnectMode::EquiAngular && eaOn);
+        return (ffOn ? 1.0 : 0.0) + (eaOn ? pw(rho) : 0.0);
+    };
+    // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
+    // free-flight one may underflow far from where free flight goes), so all ratios are then
+    // relative to the equi-angular variant: its own term is 1 and the free-flight one 1/ρ.
+    double rhoOwn;
+    double sum = variants(t, &rhoOwn);
+    double own = 1.0;
+    if (ownEquiAngular) {
+        bool ffOn = mode != ConnectMode::EquiAngular;
+        sum = 1.0 + (ffOn && rhoOwn > 0 ? pw(1.0 / rhoOwn) : 0.0);
+    }
+    double ri = 1;
     for (int i = t - 1; i > 0; --i) {
         ri *= remap0(camera[i].pdfRev) / remap0(camera[i].pdfFwd);
-        if (!camera[i].delta && !camera[i - 1].delta) sum += pw(ri);
+        if (!camera[i].delta && !camera[i - 1].delta) sum += pw(ri) * variants(i, nullptr);
     }
-    ri = 1;
+    // Strategies with more camera vertices keep z(t−1) on the camera side, made by free flight:
+    // relative to the equi-angular sample that is a factor 1/ρ_s.
+    ri = ownEquiAngular && rhoOwn > 0 ? 1.0 / rhoOwn : 1.0;
     for (int i = s - 1; i >= 0; --i) {
         ri *= remap0(light[i].pdfRev) / remap0(light[i].pdfFwd);
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
-        if (!light[i].delta && !deltaBefore) sum += pw(ri);
+        if (!light[i].delta && !deltaBefore) sum += pw(ri) * variants(t + (s - i), nullptr);
     }
-    return 1.0f / (1.0f + sum);
+    return sum > 0 ? float(own / sum) : 0.0f;
+}
+
+// The equi-angular variant of camera vertex z(t−1): a point on the ray the camera walk traced
+// from z(t−2) (whatever the free flight made of it: a medium point, a surface, or nothing),
+// within that ray's first medium, sampled towards `anchor` (clipped to what `clip` can light,
+// if given). `edge` holds the ray (PathVertex::edge*), prev is z(t−2), prevFrom the direction
+// from z(t−2) back towards z(t−3). u picks the distance.
+bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
+                       Vec3 anchor, const Light* clip, float u, int width, int height, PathVertex* out) {
+    MediumSegment seg{edge.edgeOrigin, edge.edgeDir, edge.edgeEnd, edge.edgeMedium};
+    EquiAngular ea;
+    if (clip) {
+        if (!equiAngularTowards(scene, *clip, anchor, seg, &ea)) return false;
+    } else {
+        ea = makeEquiAngular(seg.o, seg.d, anchor, 0.0f, seg.tEnd);
+    }
+    float t = sampleEquiAngular(ea, u);
+    float pea = equiAngularPdf(ea, t);
+    if (!(pea > 0) || !std::isfinite(pea)) return false;
+    const Medium& m = *edge.edgeMedium;
+    Spectrum sigmaT = m.sigmaT();
+    PathVertex v;
+    v.kind = VertexKind::Medium;
+    v.medium = &m;
+    v.media = edge.edgeMedia;
+    v.p = seg.o + seg.d * t;
+    v.beta = edge.edgeBeta * transmittance(sigmaT, t) * m.sigmaS / pea;
+    Vec3 back = prev.p - v.p;
+    float dist = length(back);
+    if (!(dist > 0) || !isFinite(v.beta)) return false;
+    v.wo = back / dist;
+    v.edgeDist = dist;
+    v.edgeOrigin = edge.edgeOrigin;
+    v.edgeDir = edge.edgeDir;
+    v.edgeEnd = edge.edgeEnd;
+    v.edgeBeta = edge.edgeBeta;
+    v.edgeMedium = edge.edgeMedium;
+    v.edgeMedia = edge.edgeMedia;
+    v.edgeFwdFreeFlight = freeFlightPdfScatter(sigmaT, dist);
+    v.edgeRevFreeFlight = prev.isMedium() ? v.edgeFwdFreeFlight : freeFlightPdfPass(sigmaT, dist);
+    // pdfFwd: the equi-angular density of the point, with the stand-in the weights use
+    // (unbounded ray from z(t−2)): direction density × 1/d² × p_ea.
+    EquiAngular standIn = makeEquiAngular(prev.p, -v.wo, anchor, 0.0f, kInfinity);
+    v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, width, height), dist) *
+               equiAngularPdf(standIn, dist);
+    *out = v;
+    return v.pdfFwd > 0;
 }
 
 int generateCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter,
@@ -232,12 +340,18 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
     Spectrum L(0.0f);
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    for (int t = 1; t <= nCamera; ++t) {
+    // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray.
+    const bool anyEquiAngular = options_.connect != ConnectMode::Density;
+    for (int t = 1; t <= nCamera + (anyEquiAngular ? 1 : 0); ++t) {
+        const bool realPt = t <= nCamera;  // camera[t−1] is a vertex, not only a ray record
+        if (!realPt && !camera[t - 1].ghost) break;
         // The s = 1 light sample's numbers, drawn whether or not that strategy runs.
         float uPick1 = t > 1 ? sampler.next1D() : 0.0f;
         Sample2 uLight1 = t > 1 ? sampler.next2D() : Sample2{0, 0};
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
         for (int s = 0; s <= std::max(nLight, 1); ++s) {
+            // The equi-angular variant's distance, drawn whether or not the strategy runs.
+            float uEA = s >= 1 && t >= 2 && options_.connect != ConnectMode::Density ? sampler.next1D() : 0.0f;
             if (s == 0 && t < 2) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
             if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
@@ -248,7 +362,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
             if (s == 0) {
                 // The camera subpath found an emitter on its own.
-                if (pt.light < 0 || !pt.isSurface()) continue;
+                if (!realPt || pt.light < 0 || !pt.isSurface()) continue;
                 contrib = pt.beta * emitted(scene, pt, pt.wo);
                 if (isBlack(contrib)) continue;
                 const Light& l = scene.lights()[pt.light];
@@ -256,13 +370,14 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 emissionPdf(scene, l, pt.p, pt.ng, pt.wo, &pos, &dir);
                 float pick = scene.lightDistribution().pmf(pt.light);
                 PathVertex& ptm = camera[t - 2];
-                Scoped<float> a, b;
+                Scoped<double> a, b;
                 a.set(&pt.pdfRev, pick * pos);
                 b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, dir, pt.edgeDist) * pt.edgeRevFreeFlight);
-                if (weighted) weight = misWeight(light, camera, 0, t, options_.heuristic);
-                if (options_.observer) options_.observer->onWeight(light, 0, camera, t, weight);
+                if (weighted) weight = misWeight(scene, light, camera, 0, t, options_.heuristic, options_.connect, false, false);
+                if (options_.observer) options_.observer->onWeight(light, 0, camera, t, weight, false);
             } else if (t == 1) {
                 // Light tracing: connect y(s−1) to the pinhole and splat.
+                if (!realPt) continue;
                 PathVertex& qs = light[s - 1];
                 if (qs.kind != VertexKind::Light && !scatters(qs)) continue;
                 // A point or spot light is not imaged directly (nor is it by pt, or by pbrt's
@@ -287,7 +402,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (isBlack(value)) continue;
                 if (weighted) {
                     // The camera's walk would have made qs with the pinhole's direction density.
-                    Scoped<float> a, b;
+                    Scoped<double> a, b;
                     float pCam = cameraPdfDir(cam, -toCam, width, height);
                     a.set(&qs.pdfRev, solidAngleToArea(qs, toCam, pCam, cc.dist) * conn.freeFlightToA);
                     if (s > 1) {
@@ -295,18 +410,38 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                         b.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, toCam, qs.wo, width, height),
                                                             qs.edgeDist) * qs.edgeRevFreeFlight);
                     }
-                    weight = misWeight(light, camera, s, 1, options_.heuristic);
-                    if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight);
+                    weight = misWeight(scene, light, camera, s, 1, options_.heuristic, options_.connect, false, conn.crossed);
+                    if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight, false);
                 }
                 if (std::isfinite(weight)) splats.splat(cc.fx, cc.fy, value * weight, width, height);
                 continue;
             } else if (s == 1) {
-                // Next-event estimation: a fresh light sample connected to z(t−1).
-                if (!scatters(pt)) continue;
+                // Next-event estimation: a fresh light sample connected to z(t−1), and the
+                // equi-angular variant: z(t−1) placed on its ray towards the light's anchor.
                 if (scene.lightDistribution().empty()) continue;
                 float pick;
                 int li = scene.lightDistribution().sample(uPick1, &pick);
                 const Light& l = scene.lights()[li];
+                Vec3 anchor;
+                const PathVertex& zPrev = camera[t - 2];
+                bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta && equiAngularAnchor(scene, l, uLight1, &anchor);
+                // Where the equi-angular variant could have made a medium vertex, --connect
+                // equiangular has it replace the free-flight one.
+                bool ffOn = realPt && scatters(pt) &&
+                            !(options_.connect == ConnectMode::EquiAngular && eaOn && pt.isMedium() && !pt.edgeCrossed);
+                const PathVertex edge = pt;
+                for (int variant = 0; variant < 2; ++variant) {
+                const bool ea = variant == 1;
+                if (ea ? !eaOn : !ffOn) continue;
+                Scoped<PathVertex> swap;
+                if (ea) {
+                    PathVertex v;
+                    Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
+                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, anchor, &l, uEA, width, height, &v)) continue;
+                    swap.set(&camera[t - 1], v);
+                }
+                Spectrum contrib(0.0f);
+                float weight = 1.0f;
                 LightSample ls;
                 if (!sampleLight(scene, l, pt.p, uLight1, &ls) || isBlack(ls.Le)) continue;
                 Spectrum f = scatter(scene, pt, pt.wo, ls.wi, TransportMode::Radiance);
@@ -344,8 +479,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                                            : solidAngleToArea(y0, ls.wi, vertexDirectionPdf(scene, pt, pt.wo, ls.wi, width, height), d) *
                                                  conn.freeFlightToB;
                     PathVertex* lightPath = &y0;
-                    Scoped<float> a, b;
-                    float ptRev = directional
+                    Scoped<double> a, b;
+                    double ptRev = directional
                                       ? pos * (pt.isSurface() ? std::abs(dot(pt.ng, ls.wi)) : 1.0f) * conn.freeFlightToA
                                       : solidAngleToArea(pt, ls.wi, dir, d) * conn.freeFlightToA;
                     a.set(&pt.pdfRev, ptRev);
@@ -354,13 +489,34 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                         b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, vertexDirectionPdf(scene, pt, ls.wi, pt.wo, width, height),
                                                             pt.edgeDist) * pt.edgeRevFreeFlight);
                     }
-                    weight = misWeight(lightPath, camera, 1, t, options_.heuristic);
-                    if (options_.observer) options_.observer->onWeight(lightPath, 1, camera, t, weight);
+                    weight = misWeight(scene, lightPath, camera, 1, t, options_.heuristic, options_.connect, ea, conn.crossed);
+                    if (options_.observer) options_.observer->onWeight(lightPath, 1, camera, t, weight, ea);
                 }
+                if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;
+                }
+                continue;
             } else {
-                // Two subpaths joined by a deterministic connection.
+                // Two subpaths joined by a deterministic connection; with equi-angular
+                // connections also z(t−1) moved along its ray towards y(s−1).
                 PathVertex& qs = light[s - 1];
-                if (!scatters(qs) || !scatters(pt)) continue;
+                if (!scatters(qs)) continue;
+                const PathVertex& zPrev = camera[t - 2];
+                bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta;
+                bool ffOn = realPt && scatters(pt) &&
+                            !(options_.connect == ConnectMode::EquiAngular && eaOn && pt.isMedium() && !pt.edgeCrossed);
+                const PathVertex edge = pt;
+                for (int variant = 0; variant < 2; ++variant) {
+                const bool ea = variant == 1;
+                if (ea ? !eaOn : !ffOn) continue;
+                Scoped<PathVertex> swap;
+                if (ea) {
+                    PathVertex v;
+                    Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
+                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, qs.p, nullptr, uEA, width, height, &v)) continue;
+                    swap.set(&camera[t - 1], v);
+                }
+                Spectrum contrib(0.0f);
+                float weight = 1.0f;
                 Vec3 d = qs.p - pt.p;
                 float dist = length(d);
                 if (!(dist > 0)) continue;
@@ -372,7 +528,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (isBlack(conn.T)) continue;
                 contrib = pt.beta * fz * conn.T * fy * qs.beta / (dist * dist);
                 if (weighted) {
-                    Scoped<float> a, b, c, e;
+                    Scoped<double> a, b, c, e;
                     a.set(&pt.pdfRev, solidAngleToArea(pt, -w, vertexDirectionPdf(scene, qs, qs.wo, -w, width, height), dist) *
                                           conn.freeFlightToA);
                     b.set(&qs.pdfRev, solidAngleToArea(qs, w, vertexDirectionPdf(scene, pt, pt.wo, w, width, height), dist) *
@@ -383,9 +539,12 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     PathVertex& qsm = light[s - 2];
                     e.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, -w, qs.wo, width, height),
                                                         qs.edgeDist) * qs.edgeRevFreeFlight);
-                    weight = misWeight(light, camera, s, t, options_.heuristic);
-                    if (options_.observer) options_.observer->onWeight(light, s, camera, t, weight);
+                    weight = misWeight(scene, light, camera, s, t, options_.heuristic, options_.connect, ea, conn.crossed);
+                    if (options_.observer) options_.observer->onWeight(light, s, camera, t, weight, ea);
                 }
+                if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;
+                }
+                continue;
             }
             if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;
         }

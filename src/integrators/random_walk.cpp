@@ -66,23 +66,33 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
     Spectrum beta = start.beta;
     float pdfDir = start.pdfDir;
     int count = 1, scatters = 0;
+    if (maxVertices > 1) path[1].ghost = false;
     while (count < maxVertices && scatters < maxScatter) {
         PathVertex& prev = path[count - 1];
         PathVertex& v = path[count];
         v = PathVertex{};
-        float fwdFF = 1, revFF = 1, dist = 0;
+        double fwdFF = 1, revFF = 1;
+        float dist = 0;
         bool firstSub = true, made = false;
+        // The ray's own record, kept even if it makes no vertex (see PathVertex::ghost).
+        v.edgeOrigin = ray.o;
+        v.edgeDir = ray.d;
+        v.edgeBeta = beta;
+        v.edgeMedia = media;
+        v.edgeMedium = scene.medium(media.current());
+        v.ghost = true;
         for (int crossings = 0; crossings < 64 && !made; ++crossings) {
             ++stats.rays;
             SurfaceHit hit = scene.intersect(ray);
             float tSurf = hit.valid() ? hit.t : kInfinity;
+            if (firstSub) v.edgeEnd = tSurf;
             const Medium* m = scene.medium(media.current());
             if (m) {
                 Spectrum sigmaT = m->sigmaT();
                 float t = sampleFreeFlight(sigmaT, sampler.next1D());
                 if (t < tSurf) {
-                    float pScatter = freeFlightPdfScatter(sigmaT, t);
-                    beta *= transmittance(sigmaT, t) * m->sigmaS / pScatter;
+                    double pScatter = freeFlightPdfScatter(sigmaT, t);
+                    beta *= transmittance(sigmaT, t) * m->sigmaS / float(pScatter);
                     fwdFF *= pScatter;
                     revFF *= firstSub && prev.isMedium() ? pScatter : freeFlightPdfPass(sigmaT, t);
                     dist += t;
@@ -93,8 +103,8 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
                     break;
                 }
                 if (std::isinf(tSurf)) return count;
-                float pPass = freeFlightPdfPass(sigmaT, tSurf);
-                beta *= transmittance(sigmaT, tSurf) / pPass;
+                double pPass = freeFlightPdfPass(sigmaT, tSurf);
+                beta *= transmittance(sigmaT, tSurf) / float(pPass);
                 fwdFF *= pPass;
                 revFF *= firstSub && prev.isMedium() ? freeFlightPdfScatter(sigmaT, tSurf) : pPass;
             }
@@ -128,10 +138,14 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.beta = beta;
         v.edgeDist = dist;
         v.edgeFwdFreeFlight = fwdFF;
+        v.edgeCrossed = !firstSub;
+        v.ghost = false;
         v.edgeRevFreeFlight = revFF;
         v.pdfFwd = solidAngleToArea(v, v.wo, pdfDir, dist) * fwdFF;
         ++count;
         ++scatters;
+        // Until a next ray is traced, the slot after the path holds no ray record.
+        if (count < maxVertices) path[count].ghost = false;
         if (v.isSurface() && v.mesh < 0) break;  // a sphere light: an opaque emitter
         if (count >= maxVertices || scatters >= maxScatter) break;
 

@@ -56,14 +56,14 @@ Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumS
     //   pass = avg_c e^(−σt,c ℓ), scatter = avg_c σt,c e^(−σt,c ℓ).
     // The first sub-segment touches a, the last touches b.
     Spectrum T(1.0f);
-    float toB = 1, toA = 1;
+    double toB = 1, toA = 1;
     float remaining = dist;
     bool first = true;
     auto account = [&](const Medium* m, float len, bool last) {
         if (!m) return;
         Spectrum sigmaT = m->sigmaT();
         T *= transmittance(sigmaT, len);
-        float pass = freeFlightPdfPass(sigmaT, len);
+        double pass = freeFlightPdfPass(sigmaT, len);
         toB *= last && bIsMedium ? freeFlightPdfScatter(sigmaT, len) : pass;
         toA *= first && aIsMedium ? freeFlightPdfScatter(sigmaT, len) : pass;
     };
@@ -88,6 +88,7 @@ Connection connectPoints(const Scene& scene, Vec3 o, Vec3 d, float dist, MediumS
         o = hit.p + d * eps;
         remaining -= hit.t + eps;
         first = false;
+        c.crossed = true;
         if (!(remaining > 0)) {
             c.T = T;
             c.freeFlightToB = toB;

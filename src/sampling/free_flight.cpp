@@ -12,15 +12,17 @@ float sampleFreeFlight(Spectrum sigmaT, float u) {
     return -std::log1p(-v) / s;
 }
 
-float freeFlightPdfScatter(Spectrum sigmaT, float t) {
-    float sum = 0;
+double freeFlightPdfScatter(Spectrum sigmaT, float t) {
+    double sum = 0;
     for (int c = 0; c < 3; ++c)
-        if (sigmaT[c] > 0) sum += sigmaT[c] * std::exp(-sigmaT[c] * t);
-    return sum * (1.0f / 3.0f);
+        if (sigmaT[c] > 0) sum += double(sigmaT[c]) * std::exp(-double(sigmaT[c]) * t);
+    return sum / 3.0;
 }
 
-float freeFlightPdfPass(Spectrum sigmaT, float t) {
-    return average(transmittance(sigmaT, t));
+double freeFlightPdfPass(Spectrum sigmaT, float t) {
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += sigmaT[c] > 0 ? std::exp(-double(sigmaT[c]) * t) : 1.0;
+    return sum / 3.0;
 }
 
 }  // namespace brume

@@ -2,6 +2,7 @@
 // and a light subpath, every (s, t) connection strategy, MIS over all of them with densities
 // that include the free-flight sampling in both directions. docs/mis.md derives the weights.
 #pragma once
+#include "brume/integrators/path_tracer.h"
 #include "brume/render/renderer.h"
 
 namespace brume {
@@ -15,7 +16,9 @@ struct PathVertex;
 class BdptObserver {
 public:
     virtual ~BdptObserver() = default;
-    virtual void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight) const = 0;
+    // equiAngular: the sample is the equi-angular variant (z(t−1) moved towards y(s−1)).
+    virtual void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight,
+                          bool equiAngular) const = 0;
 };
 
 struct BdptOptions {
@@ -26,6 +29,10 @@ struct BdptOptions {
     // the weighted images of all strategies add up to the full image for the same seed.
     int onlyS = -1, onlyT = -1;
     bool weighted = false;
+    // Light connections at medium vertices: Density = plain BDPT; EquiAngular = the camera
+    // vertex z(t−1) is sampled equi-angularly towards y(s−1) instead of by free flight;
+    // Mis = both variants, MIS-weighted (docs/mis.md).
+    ConnectMode connect = ConnectMode::Density;
     const BdptObserver* observer = nullptr;
 };
 

@@ -26,13 +26,26 @@ struct PathVertex {
     const Medium* medium = nullptr;  // medium vertex
     MediumStack media;       // the media where the vertex was reached (the incoming side of a surface)
     Spectrum beta{1.0f};     // subpath throughput up to and including this vertex
-    float pdfFwd = 0;        // area density of making this vertex from the previous one
-    float pdfRev = 0;        // area density of making it from the next one
+    // Densities in double: products of free-flight densities over long edges leave float's range.
+    double pdfFwd = 0;       // area density of making this vertex from the previous one
+    double pdfRev = 0;       // area density of making it from the next one
     // The edge from the previous vertex to this one: its length and the free-flight density
     // of the reverse walk's event at the previous vertex (see random_walk.cpp).
     float edgeDist = 0;
-    float edgeFwdFreeFlight = 1;
-    float edgeRevFreeFlight = 1;
+    double edgeFwdFreeFlight = 1;
+    double edgeRevFreeFlight = 1;
+    // The walk's ray for that edge, for the equi-angular variant of a medium vertex: its origin,
+    // the distance along it to the surface ending the medium, the throughput at its start, and
+    // whether it crossed an invisible boundary (then there is no such variant).
+    Vec3 edgeOrigin, edgeDir;
+    float edgeEnd = 0;
+    Spectrum edgeBeta{0.0f};
+    bool edgeCrossed = false;
+    const Medium* edgeMedium = nullptr;  // the medium the ray starts in (null: vacuum)
+    MediumStack edgeMedia;               // the media at the ray's start
+    // The walk traced this ray but made no vertex on it (it escaped): only the edge fields
+    // above are set, so that an equi-angular vertex can still be placed on the ray.
+    bool ghost = false;
 
     bool isSurface() const { return kind == VertexKind::Surface; }
     bool isMedium() const { return kind == VertexKind::Medium; }
@@ -41,8 +54,8 @@ struct PathVertex {
 // Solid-angle density at another vertex → area density at `to`, a distance d away in unit
 // direction w (seen from `to`): |cos| at a surface or area-light vertex, none in a medium or
 // at a point.
-inline float solidAngleToArea(const PathVertex& to, Vec3 w, float pdfDir, float d) {
-    float g = 1.0f / (d * d);
+inline double solidAngleToArea(const PathVertex& to, Vec3 w, double pdfDir, double d) {
+    double g = 1.0 / (d * d);
     if (to.kind == VertexKind::Surface || (to.kind == VertexKind::Light && dot(to.ng, to.ng) > 0))
         g *= std::abs(dot(to.ng, w));
     return pdfDir * g;

@@ -44,8 +44,9 @@ namespace brume {
 // the end contributes its scattering density instead.
 struct Connection {
     Spectrum T{0.0f};
-    float freeFlightToB = 1;  // walk a → b stops at b
-    float freeFlightToA = 1;  // walk b → a stops at a
+    double freeFlightToB = 1;  // walk a → b stops at b
+    double freeFlightToA = 1;  // walk b → a stops at a
+    bool crossed = false;     // passed through an invisible boundary
 };
 
 // o: the origin already offset off a's surface if a is one; d unit; dist the distance to b

@@ -17,10 +17,11 @@ inline Spectrum transmittance(Spectrum sigmaT, float t) {
 // Returns +∞ if the chosen channel has σt = 0.
 float sampleFreeFlight(Spectrum sigmaT, float u);
 
-// Density of scattering at t: avg_c σt_c·exp(−σt_c·t).
-float freeFlightPdfScatter(Spectrum sigmaT, float t);
+// Density of scattering at t: avg_c σt_c·exp(−σt_c·t). In double: MIS weights multiply these
+// over long edges, where float would underflow.
+double freeFlightPdfScatter(Spectrum sigmaT, float t);
 
 // Probability of flying past t: avg_c exp(−σt_c·t).
-float freeFlightPdfPass(Spectrum sigmaT, float t);
+double freeFlightPdfPass(Spectrum sigmaT, float t);
 
 }  // namespace brume

@@ -230,7 +230,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
 
 TEST_CASE("each equi-angular bdpt strategy alone is unbiased", "[bdpt][equiangular]") {
     // --connect equiangular, one strategy, unweighted: its medium connection vertices are all
-    // equi-angular samples. Against pt at exactly the same number of scattering events.
+    // equi-angular samples. Against pt at exactly the same number of scattering events (2).
     const int W = 16, B = 4;
     auto scene = loadTestScene("quad_light_fog.gltf");
     PathTracer pt1(PathTracerOptions{1, true, ConnectMode::Mis}), pt2(PathTracerOptions{2, true, ConnectMode::Mis});
@@ -249,7 +249,8 @@ TEST_CASE("each equi-angular bdpt strategy alone is unbiased", "[bdpt][equiangul
         }
     }
     std::vector<bool> none(ref1.size(), false);
-    for (auto [s, t] : {std::pair<int, int>{1, 3}, {2, 2}}) {
+    // (1, 3), (2, 2): light connections; (3, 1): a camera connection (the camera as a point light).
+    for (auto [s, t] : {std::pair<int, int>{1, 3}, {2, 2}, {3, 1}}) {
         BdptOptions opt{2, MisHeuristic::Power, s, t};
         opt.connect = ConnectMode::EquiAngular;
         auto est = estimateFilm(*scene, BdptIntegrator(opt), W, W, 64, 16, 40 + uint64_t(s), B);

@@ -113,6 +113,28 @@ struct Checker : BdptObserver {
         return pff > 0 ? equiAngularPdf(ea, dist) / pff : 0;
     }
 
+    // The same for the camera as a point light: x[1] reached from x[2], aimed at the pinhole x[0].
+    double cameraEquiAngularRatio(const std::vector<PathVertex>& x) const {
+        const PathVertex& v = x[1];
+        const PathVertex& p = x[2];
+        if (!v.isMedium() || p.delta) return 0;
+        Vec3 e = v.p - p.p;
+        float dist = length(e);
+        Vec3 w = e / dist;
+        MediumStack media = p.media;
+        if (p.isSurface() && p.mesh >= 0) {
+            int interior = scene->mesh(p.mesh).interiorMedium;
+            if (interior >= 0 && dot(p.wo, p.ng) * dot(w, p.ng) < 0) media.toggle(interior);
+        }
+        Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
+        PathStats stats;
+        if (connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed)
+            return 0;
+        double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
+        EquiAngular ea = makeEquiAngular(p.p, w, x[0].p, 0.0f, kInfinity);
+        return pff > 0 ? equiAngularPdf(ea, dist) / pff : 0;
+    }
+
     void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight,
                   bool equiAngular) const override {
         std::vector<PathVertex> x;
@@ -165,6 +187,7 @@ struct Checker : BdptObserver {
             for (int i = tt; i <= k; ++i) prod *= remap(rev[i]);
             // Free-flight and equi-angular variants of the strategy.
             double rho = connect != ConnectMode::Density && tt >= 2 && ss >= 1 ? equiAngularRatio(x, tt - 1, true) : 0;
+            if (connect != ConnectMode::Density && tt == 1 && k >= 2) rho = cameraEquiAngularRatio(x);
             bool eaOn = rho > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
             double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho) : 0;
             if (std::getenv("BRUME_DEBUG_TERMS")) std::printf("   tt=%d prod %g rho %g ffOn %d\n", tt, prod, rho, int(ffOn));
@@ -245,6 +268,7 @@ TEST_CASE("bdpt MIS weights with equi-angular light connections (mis and equiang
         checkWeights("single_spot.gltf", 4, m);
         checkWeights("area_sphere.gltf", 4, m);
         checkWeights("bdpt_window_fog.gltf", 16, m);
+        checkWeights("bdpt_glass_sphere.gltf", 4, m);
     }
 }
 

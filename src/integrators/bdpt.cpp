@@ -166,6 +166,9 @@ float misWeight(const Scene& scene, const PathVertex* light, const PathVertex* c
         double rho = 0.0;
         if (mode != ConnectMode::Density && tt >= 2 && k + 1 - tt >= 1 && at(tt - 1).isMedium() && !crossed(tt - 1))
             rho = equiAngularRatio(scene, at(tt - 2), at(tt - 1), at(tt));
+        // t = 1: the camera as a point light, y(s−1) = x1 aimed at the pinhole from x2.
+        if (mode != ConnectMode::Density && tt == 1 && k >= 2 && at(1).isMedium() && !crossed(2))
+            rho = equiAngularRatio(scene, at(2), at(1), at(0));
         if (rhoOut) *rhoOut = rho;
         bool eaOn = rho > 0;
         bool ffOn = !(mode == ConnectMode::EquiAngular && eaOn);
@@ -187,8 +190,9 @@ float misWeight(const Scene& scene, const PathVertex* light, const PathVertex* c
         if (!camera[i].delta && !camera[i - 1].delta) sum += pw(ri) * variants(i, nullptr);
     }
     // Strategies with more camera vertices keep z(t−1) on the camera side, made by free flight:
-    // relative to the equi-angular sample that is a factor 1/ρ_s.
-    ri = ownEquiAngular && rhoOwn > 0 ? 1.0 / rhoOwn : 1.0;
+    // relative to the equi-angular sample that is a factor 1/ρ_s. (For t = 1 the equi-angular
+    // vertex is y(s−1), which every other strategy moves to the camera side.)
+    ri = ownEquiAngular && t >= 2 && rhoOwn > 0 ? 1.0 / rhoOwn : 1.0;
     for (int i = s - 1; i >= 0; --i) {
         ri *= remap0(light[i].pdfRev) / remap0(light[i].pdfFwd);
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
@@ -203,11 +207,17 @@ float misWeight(const Scene& scene, const PathVertex* light, const PathVertex* c
 // if given). `edge` holds the ray (PathVertex::edge*), prev is z(t−2), prevFrom the direction
 // from z(t−2) back towards z(t−3). u picks the distance.
 bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
-                       Vec3 anchor, const Light* clip, float u, int width, int height, PathVertex* out) {
+                       Vec3 anchor, const Light* clip, bool toCamera, float u, int width, int height, PathVertex* out) {
     MediumSegment seg{edge.edgeOrigin, edge.edgeDir, edge.edgeEnd, edge.edgeMedium};
     EquiAngular ea;
     if (clip) {
         if (!equiAngularTowards(scene, *clip, anchor, seg, &ea)) return false;
+    } else if (toCamera) {
+        // The camera as a point light: only the part of the ray inside the view frustum can
+        // reach the film.
+        float a = 0, b = seg.tEnd;
+        if (!clipToFrustum(scene.camera(), width, height, seg.o, seg.d, &a, &b)) return false;
+        ea = makeEquiAngular(seg.o, seg.d, anchor, a, b);
     } else {
         ea = makeEquiAngular(seg.o, seg.d, anchor, 0.0f, seg.tEnd);
     }
@@ -349,13 +359,15 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
         float uPick1 = t > 1 ? sampler.next1D() : 0.0f;
         Sample2 uLight1 = t > 1 ? sampler.next2D() : Sample2{0, 0};
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
-        for (int s = 0; s <= std::max(nLight, 1); ++s) {
+        // s = nLight + 1 exists only for equi-angular camera connections on the light walk's
+        // last, escaped ray.
+        for (int s = 0; s <= std::max(nLight, 1) + (anyEquiAngular && t == 1 ? 1 : 0); ++s) {
             // The equi-angular variant's distance, drawn whether or not the strategy runs.
-            float uEA = s >= 1 && t >= 2 && options_.connect != ConnectMode::Density ? sampler.next1D() : 0.0f;
+            float uEA = anyEquiAngular && s >= 1 && (t >= 2 || s >= 2) ? sampler.next1D() : 0.0f;
             if (s == 0 && t < 2) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
             if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
-            if ((t == 1 || s > 1) && s > nLight) continue;
+            if ((t == 1 || s > 1) && s > nLight && !(t == 1 && s == nLight + 1 && s >= 2 && light[s - 1].ghost)) continue;
             Spectrum contrib(0.0f);
             float weight = 1.0f;
             PathVertex& pt = camera[t - 1];
@@ -376,13 +388,29 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (weighted) weight = misWeight(scene, light, camera, 0, t, options_.heuristic, options_.connect, false, false);
                 if (options_.observer) options_.observer->onWeight(light, 0, camera, t, weight, false);
             } else if (t == 1) {
-                // Light tracing: connect y(s−1) to the pinhole and splat.
-                if (!realPt) continue;
+                // Light tracing: connect y(s−1) to the pinhole and splat; with equi-angular
+                // connections also y(s−1) placed on the light walk's ray from y(s−2) towards
+                // the pinhole (the camera as a point light), within the view frustum.
+                const bool realQs = s <= nLight;
+                const PathVertex& edge = light[s - 1];
+                const PathVertex* yPrev = s >= 2 ? &light[s - 2] : nullptr;
+                bool eaOn = anyEquiAngular && yPrev && edge.edgeMedium && !yPrev->delta && (realQs || edge.ghost);
+                bool ffOn = realQs && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
+                            !(options_.connect == ConnectMode::EquiAngular && eaOn && edge.isMedium() && !edge.edgeCrossed);
+                const PathVertex edgeCopy = edge;
+                for (int variant = 0; variant < 2; ++variant) {
+                const bool ea = variant == 1;
+                if (ea ? !eaOn : !ffOn) continue;
+                Scoped<PathVertex> swap;
+                if (ea) {
+                    PathVertex v;
+                    Vec3 prevFrom = s >= 3 ? normalize(light[s - 3].p - yPrev->p) : yPrev->wo;
+                    if (!equiAngularVertex(scene, edgeCopy, *yPrev, prevFrom, cam.position, nullptr, true, uEA, width, height, &v))
+                        continue;
+                    swap.set(&light[s - 1], v);
+                }
                 PathVertex& qs = light[s - 1];
-                if (qs.kind != VertexKind::Light && !scatters(qs)) continue;
-                // A point or spot light is not imaged directly (nor is it by pt, or by pbrt's
-                // bdpt, which skips (1, 1) altogether): only the light it sends out is seen.
-                if (s == 1 && qs.deltaLight) continue;
+                float weight = 1.0f;
                 CameraConnection cc;
                 if (!connectToCamera(cam, qs.p, width, height, &cc)) continue;
                 Vec3 toCam = cc.wi;
@@ -410,10 +438,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                         b.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, toCam, qs.wo, width, height),
                                                             qs.edgeDist) * qs.edgeRevFreeFlight);
                     }
-                    weight = misWeight(scene, light, camera, s, 1, options_.heuristic, options_.connect, false, conn.crossed);
-                    if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight, false);
+                    weight = misWeight(scene, light, camera, s, 1, options_.heuristic, options_.connect, ea, conn.crossed);
+                    if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight, ea);
                 }
                 if (std::isfinite(weight)) splats.splat(cc.fx, cc.fy, value * weight, width, height);
+                }
                 continue;
             } else if (s == 1) {
                 // Next-event estimation: a fresh light sample connected to z(t−1), and the
@@ -437,7 +466,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
-                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, anchor, &l, uEA, width, height, &v)) continue;
+                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, anchor, &l, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);
@@ -512,7 +541,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
-                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, qs.p, nullptr, uEA, width, height, &v)) continue;
+                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, qs.p, nullptr, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);

@@ -53,6 +53,25 @@ double worstZ(const std::vector<PixelEstimate>& a, const std::vector<PixelEstima
     return worst;
 }
 
+// Estimates of the paths with exactly k scattering events: pt at --max-depth k minus pt at
+// k − 1 (independent renders; their standard errors add in quadrature).
+std::vector<PixelEstimate> exactDepth(const std::vector<PixelEstimate>& upToK, const std::vector<PixelEstimate>& upToKm1) {
+    std::vector<PixelEstimate> out(upToK.size());
+    for (size_t i = 0; i < upToK.size(); ++i) {
+        PixelEstimate& d = out[i];
+        d.n = upToK[i].n;
+        for (int c = 0; c < 3; ++c) {
+            double m = upToK[i].mean(c) - upToKm1[i].mean(c);
+            double se2 = upToK[i].stderror(c) * upToK[i].stderror(c) + upToKm1[i].stderror(c) * upToKm1[i].stderror(c);
+            // Encode mean and standard error back into PixelEstimate's sums.
+            double var = se2 * double(d.n);
+            d.sum[c] = m * double(d.n);
+            d.sum2[c] = (var * double(d.n - 1) / double(d.n) + m * m) * double(d.n);
+        }
+    }
+    return out;
+}
+
 // Blocks of 2×2 pixels of a W×W image; blocks that show a point light directly are skipped.
 void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt, int batches) {
     auto scene = loadTestScene(file);
@@ -111,19 +130,7 @@ TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies 
     PathTracer pt0(PathTracerOptions{0, true, ConnectMode::Mis}), pt1(PathTracerOptions{1, true, ConnectMode::Mis});
     auto ref0 = estimateFilm(*scene, pt0, W, W, 64, 16, 7, B);
     auto ref1 = estimateFilm(*scene, pt1, W, W, 64, 16, 8, B);
-    std::vector<PixelEstimate> exact1(ref1.size());
-    for (size_t i = 0; i < ref1.size(); ++i) {  // depth exactly 1: difference of independent estimates
-        PixelEstimate& d = exact1[i];
-        d.n = ref1[i].n;
-        for (int c = 0; c < 3; ++c) {
-            double m = ref1[i].mean(c) - ref0[i].mean(c);
-            double se2 = ref1[i].stderror(c) * ref1[i].stderror(c) + ref0[i].stderror(c) * ref0[i].stderror(c);
-            // Encode mean and standard error back into sums for PixelEstimate.
-            double var = se2 * double(d.n);
-            d.sum[c] = m * double(d.n);
-            d.sum2[c] = (var * double(d.n - 1) / double(d.n) + m * m) * double(d.n);
-        }
-    }
+    std::vector<PixelEstimate> exact1 = exactDepth(ref1, ref0);
     std::vector<bool> none(ref0.size(), false);
     struct S { int s, t; const std::vector<PixelEstimate>* ref; };
     const S strategies[] = {{0, 2, &ref0}, {1, 1, &ref0}, {0, 3, &exact1}, {1, 2, &exact1}, {2, 1, &exact1}};
@@ -236,18 +243,7 @@ TEST_CASE("each equi-angular bdpt strategy alone is unbiased", "[bdpt][equiangul
     PathTracer pt1(PathTracerOptions{1, true, ConnectMode::Mis}), pt2(PathTracerOptions{2, true, ConnectMode::Mis});
     auto ref1 = estimateFilm(*scene, pt1, W, W, 64, 16, 17, B);
     auto ref2 = estimateFilm(*scene, pt2, W, W, 64, 16, 18, B);
-    std::vector<PixelEstimate> exact2(ref2.size());
-    for (size_t i = 0; i < ref2.size(); ++i) {
-        PixelEstimate& d = exact2[i];
-        d.n = ref2[i].n;
-        for (int c = 0; c < 3; ++c) {
-            double m = ref2[i].mean(c) - ref1[i].mean(c);
-            double se2 = ref2[i].stderror(c) * ref2[i].stderror(c) + ref1[i].stderror(c) * ref1[i].stderror(c);
-            double var = se2 * double(d.n);
-            d.sum[c] = m * double(d.n);
-            d.sum2[c] = (var * double(d.n - 1) / double(d.n) + m * m) * double(d.n);
-        }
-    }
+    std::vector<PixelEstimate> exact2 = exactDepth(ref2, ref1);
     std::vector<bool> none(ref1.size(), false);
     // (1, 3), (2, 2): light connections; (3, 1): a camera connection (the camera as a point light).
     for (auto [s, t] : {std::pair<int, int>{1, 3}, {2, 2}, {3, 1}}) {

@@ -82,17 +82,9 @@ struct Checker : BdptObserver {
         return g * c.freeFlightToB;
     }
 
-    // ρ = p_ea / p_ff for x[m] reached from x[m−1] and aimed at x[m+1] (0 if no such variant):
-    // equi-angular over the unbounded ray, the light's anchor for a light vertex.
-    double equiAngularRatio(const std::vector<PathVertex>& x, int m, bool lastIsLight) const {
-        const PathVertex& v = x[m];
-        const PathVertex& p = x[m - 1];
-        const PathVertex& a = x[m + 1];
-        if (!v.isMedium() || p.delta) return 0;
-        Vec3 e = v.p - p.p;
-        float dist = length(e);
-        Vec3 w = e / dist;
-        // The edge must lie in one medium: no invisible boundary between p and v.
+    // Whether the segment p → v passes an invisible medium boundary (no equi-angular variant).
+    bool crossesBoundary(const PathVertex& p, const PathVertex& v) const {
+        Vec3 w = normalize(v.p - p.p);
         MediumStack media = p.media;
         if (p.isSurface() && p.mesh >= 0) {
             int interior = scene->mesh(p.mesh).interiorMedium;
@@ -100,8 +92,19 @@ struct Checker : BdptObserver {
         }
         Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
         PathStats stats;
-        if (connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed)
-            return 0;
+        return connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed;
+    }
+
+    // ρ = p_ea / p_ff for x[m] reached from x[m−1] and aimed at x[m+1] (0 if no such variant):
+    // equi-angular over the unbounded ray, the light's anchor for a light vertex.
+    double equiAngularRatio(const std::vector<PathVertex>& x, int m, bool lastIsLight) const {
+        const PathVertex& v = x[m];
+        const PathVertex& p = x[m - 1];
+        const PathVertex& a = x[m + 1];
+        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return 0;
+        Vec3 e = v.p - p.p;
+        float dist = length(e);
+        Vec3 w = e / dist;
         Vec3 anchor = a.p;
         if (lastIsLight && m + 1 == int(x.size()) - 1) {
             const Light& l = scene->lights()[a.light];
@@ -117,19 +120,10 @@ struct Checker : BdptObserver {
     double cameraEquiAngularRatio(const std::vector<PathVertex>& x) const {
         const PathVertex& v = x[1];
         const PathVertex& p = x[2];
-        if (!v.isMedium() || p.delta) return 0;
+        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return 0;
         Vec3 e = v.p - p.p;
         float dist = length(e);
         Vec3 w = e / dist;
-        MediumStack media = p.media;
-        if (p.isSurface() && p.mesh >= 0) {
-            int interior = scene->mesh(p.mesh).interiorMedium;
-            if (interior >= 0 && dot(p.wo, p.ng) * dot(w, p.ng) < 0) media.toggle(interior);
-        }
-        Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
-        PathStats stats;
-        if (connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed)
-            return 0;
         double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
         EquiAngular ea = makeEquiAngular(p.p, w, x[0].p, 0.0f, kInfinity);
         return pff > 0 ? equiAngularPdf(ea, dist) / pff : 0;

@@ -101,6 +101,18 @@ Vec3 offsetFrom(const PathVertex& v, Vec3 w) {
 // Sphere lights are opaque emitters: a path that reaches one ends there.
 bool scatters(const PathVertex& v) { return v.isMedium() || (v.isSurface() && v.mesh >= 0 && !v.delta); }
 
+// Direction from path[i] back to path[i − 1] (its own wo at a subpath's start).
+Vec3 towardsPrevious(const PathVertex* path, int i) {
+    return i >= 1 ? normalize(path[i - 1].p - path[i].p) : path[i].wo;
+}
+
+// Whether a connection's free-flight variant runs: the vertex must scatter, and where the
+// equi-angular variant could have made the same medium vertex, --connect equiangular has it
+// replace the free-flight one.
+bool freeFlightVariantOn(ConnectMode mode, bool real, const PathVertex& v, bool equiAngularOn) {
+    return real && scatters(v) && !(mode == ConnectMode::EquiAngular && equiAngularOn && v.isMedium() && !v.edgeCrossed);
+}
+
 bool onSurfaceOrAreaLight(const PathVertex& v) {
     return v.kind == VertexKind::Surface || (v.kind == VertexKind::Light && dot(v.ng, v.ng) > 0);
 }
@@ -404,7 +416,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;
-                    Vec3 prevFrom = s >= 3 ? normalize(light[s - 3].p - yPrev->p) : yPrev->wo;
+                    Vec3 prevFrom = towardsPrevious(light, s - 2);
                     if (!equiAngularVertex(scene, edgeCopy, *yPrev, prevFrom, cam.position, nullptr, true, uEA, width, height, &v))
                         continue;
                     swap.set(&light[s - 1], v);
@@ -454,10 +466,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Vec3 anchor;
                 const PathVertex& zPrev = camera[t - 2];
                 bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta && equiAngularAnchor(scene, l, uLight1, &anchor);
-                // Where the equi-angular variant could have made a medium vertex, --connect
-                // equiangular has it replace the free-flight one.
-                bool ffOn = realPt && scatters(pt) &&
-                            !(options_.connect == ConnectMode::EquiAngular && eaOn && pt.isMedium() && !pt.edgeCrossed);
+                bool ffOn = freeFlightVariantOn(options_.connect, realPt, pt, eaOn);
                 const PathVertex edge = pt;
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
@@ -465,7 +474,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;
-                    Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
+                    Vec3 prevFrom = towardsPrevious(camera, t - 2);
                     if (!equiAngularVertex(scene, edge, zPrev, prevFrom, anchor, &l, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
@@ -531,8 +540,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (!scatters(qs)) continue;
                 const PathVertex& zPrev = camera[t - 2];
                 bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta;
-                bool ffOn = realPt && scatters(pt) &&
-                            !(options_.connect == ConnectMode::EquiAngular && eaOn && pt.isMedium() && !pt.edgeCrossed);
+                bool ffOn = freeFlightVariantOn(options_.connect, realPt, pt, eaOn);
                 const PathVertex edge = pt;
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
@@ -540,7 +548,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;
-                    Vec3 prevFrom = t >= 3 ? normalize(camera[t - 3].p - zPrev.p) : zPrev.wo;
+                    Vec3 prevFrom = towardsPrevious(camera, t - 2);
                     if (!equiAngularVertex(scene, edge, zPrev, prevFrom, qs.p, nullptr, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "brume/integrators/bdpt_mis.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/random_walk.h"
@@ -17,7 +18,7 @@ namespace brume {
 // Notation (docs/mis.md): camera subpath z0 (the pinhole) … z(t−1), light subpath
 // y0 (on a light) … y(s−1); strategy (s, t) connects y(s−1) with z(t−1). Every vertex keeps
 // pdfFwd (area density of being made by its own walk) and pdfRev (by the other walk); both
-// include free-flight densities. MIS weights follow Veach's ratio recursion (as in pbrt-v3)
+// include free-flight densities. MIS weights (bdpt_mis.cpp) follow Veach's ratio recursion
 // with the reverse densities of the four vertices next to the connection recomputed for it.
 namespace {
 
@@ -26,9 +27,10 @@ constexpr int kMaxVertices = 1024;  // per subpath; Russian roulette ends paths 
 struct ThreadPaths {
     std::vector<PathVertex> camera = std::vector<PathVertex>(kMaxVertices);
     std::vector<PathVertex> light = std::vector<PathVertex>(kMaxVertices);
+    // misPrefixes of each subpath
+    std::vector<double> cameraPrefix = std::vector<double>(kMaxVertices), cameraVariant = cameraPrefix;
+    std::vector<double> lightPrefix = cameraPrefix, lightVariant = cameraPrefix;
 };
-
-double remap0(double f) { return f != 0 ? f : 1.0; }
 
 // Restores a value when the scope ends: the MIS weight edits vertex densities in place.
 template <class T>
@@ -130,87 +132,6 @@ Connection connectVertices(const Scene& scene, const PathVertex& a, const PathVe
     if (b.light >= 0 && b.mesh < 0) target.sphereLight = b.light;
     if (b.mesh >= 0) target.mesh = b.mesh, target.triangle = b.triangle;
     return connectPoints(scene, o, d, travel, mediaTowards(scene, a, d), a.isMedium(), b.isMedium(), target, stats);
-}
-
-// The equi-angular variant's density relative to the free-flight one, ρ = p_ea / p_ff, for a
-// camera-side medium vertex v reached from p along an edge in one medium and aimed at a
-// (a light vertex aims at its light's anchor: the point of a triangle light, the centre of a
-// sphere light, the position of a point or spot light). A stand-in as docs/mis.md explains:
-// equi-angular over the unbounded ray from p, since the far end is not part of the path.
-double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a) {
-    if (!v.isMedium() || p.delta) return 0.0f;
-    Vec3 anchor = a.p;
-    // A light vertex, or the camera walk's hit on a sphere light (always a path's end).
-    if (a.kind == VertexKind::Light || (a.isSurface() && a.mesh < 0 && a.light >= 0)) {
-        const Light& l = scene.lights()[a.light];
-        if (l.kind == LightKind::Directional) return 0.0f;
-        if (l.kind != LightKind::Triangle) anchor = l.position;
-    }
-    Vec3 e = v.p - p.p;
-    float dist = length(e);
-    if (!(dist > 0)) return 0.0f;
-    double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
-    if (!(pff > 0)) return 0.0;
-    EquiAngular ea = makeEquiAngular(p.p, e / dist, anchor, 0.0f, kInfinity);
-    return double(equiAngularPdf(ea, dist)) / pff;
-}
-
-// The weight of this sample among all strategies and their variants. Ratios r_j = p_j / p_s
-// follow Veach's recursion (as in pbrt-v3), with the reverse densities of z(t−1), z(t−2),
-// y(s−1), y(s−2) already set for this connection. A strategy with s ≥ 1, t ≥ 2 whose last
-// camera vertex is a medium point reached without crossing a boundary has an equi-angular
-// variant of density ρ_j · p_j; it contributes V_j = [free flight on] + [equi-angular on]·ρ_j^β.
-//   w = own / Σ_j r_j^β V_j,  own = ρ_s^β for the equi-angular sample, 1 for the other
-// (for the equi-angular sample everything is divided by ρ_s^β, see below).
-float misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
-                MisHeuristic h, ConnectMode mode, bool ownEquiAngular, bool connectionCrossed) {
-    // In double: an equi-angular point far beyond any free flight has ρ ~ 1e20 and more.
-    auto pw = [h](double r) { return h == MisHeuristic::Power ? r * r : r; };
-    const int k = s + t - 1;  // vertices x0 … xk
-    auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
-    auto crossed = [&](int m) {  // the edge x(m−1)–x(m)
-        if (m < t) return camera[m].edgeCrossed;
-        if (m - 1 >= t) return at(m - 1).edgeCrossed;  // light subpath: stored on its later vertex
-        return connectionCrossed;
-    };
-    // V for the strategy with tt camera vertices; rho is returned for the own strategy.
-    auto variants = [&](int tt, double* rhoOut) {
-        double rho = 0.0;
-        if (mode != ConnectMode::Density && tt >= 2 && k + 1 - tt >= 1 && at(tt - 1).isMedium() && !crossed(tt - 1))
-            rho = equiAngularRatio(scene, at(tt - 2), at(tt - 1), at(tt));
-        // t = 1: the camera as a point light, y(s−1) = x1 aimed at the pinhole from x2.
-        if (mode != ConnectMode::Density && tt == 1 && k >= 2 && at(1).isMedium() && !crossed(2))
-            rho = equiAngularRatio(scene, at(2), at(1), at(0));
-        if (rhoOut) *rhoOut = rho;
-        bool eaOn = rho > 0;
-        bool ffOn = !(mode == ConnectMode::EquiAngular && eaOn);
-        return (ffOn ? 1.0 : 0.0) + (eaOn ? pw(rho) : 0.0);
-    };
-    // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
-    // free-flight one may underflow far from where free flight goes), so all ratios are then
-    // relative to the equi-angular variant: its own term is 1 and the free-flight one 1/ρ.
-    double rhoOwn;
-    double sum = variants(t, &rhoOwn);
-    double own = 1.0;
-    if (ownEquiAngular) {
-        bool ffOn = mode != ConnectMode::EquiAngular;
-        sum = 1.0 + (ffOn && rhoOwn > 0 ? pw(1.0 / rhoOwn) : 0.0);
-    }
-    double ri = 1;
-    for (int i = t - 1; i > 0; --i) {
-        ri *= remap0(camera[i].pdfRev) / remap0(camera[i].pdfFwd);
-        if (!camera[i].delta && !camera[i - 1].delta) sum += pw(ri) * variants(i, nullptr);
-    }
-    // Strategies with more camera vertices keep z(t−1) on the camera side, made by free flight:
-    // relative to the equi-angular sample that is a factor 1/ρ_s. (For t = 1 the equi-angular
-    // vertex is y(s−1), which every other strategy moves to the camera side.)
-    ri = ownEquiAngular && t >= 2 && rhoOwn > 0 ? 1.0 / rhoOwn : 1.0;
-    for (int i = s - 1; i >= 0; --i) {
-        ri *= remap0(light[i].pdfRev) / remap0(light[i].pdfFwd);
-        bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
-        if (!light[i].delta && !deltaBefore) sum += pw(ri) * variants(t + (s - i), nullptr);
-    }
-    return sum > 0 ? float(own / sum) : 0.0f;
 }
 
 // The equi-angular variant of camera vertex z(t−1): a point on the ray the camera walk traced
@@ -362,6 +283,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
     Spectrum L(0.0f);
     const bool weighted = options_.onlyS < 0 || options_.weighted;
+    const MisSettings mis{options_.heuristic, options_.connect};
+    const SubpathMis cameraMis{paths.cameraPrefix.data(), paths.cameraVariant.data()};
+    const SubpathMis lightMis{paths.lightPrefix.data(), paths.lightVariant.data()};
+    if (weighted) {
+        misPrefixes(scene, camera, nCamera, true, mis, paths.cameraPrefix.data(), paths.cameraVariant.data());
+        misPrefixes(scene, light, nLight, false, mis, paths.lightPrefix.data(), paths.lightVariant.data());
+    }
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray.
     const bool anyEquiAngular = options_.connect != ConnectMode::Density;
     for (int t = 1; t <= nCamera + (anyEquiAngular ? 1 : 0); ++t) {
@@ -397,7 +325,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 Scoped<double> a, b;
                 a.set(&pt.pdfRev, pick * pos);
                 b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, dir, pt.edgeDist) * pt.edgeRevFreeFlight);
-                if (weighted) weight = misWeight(scene, light, camera, 0, t, options_.heuristic, options_.connect, false, false);
+                if (weighted) weight = float(misWeight(scene, light, camera, 0, t, mis, false, false, lightMis, cameraMis));
                 if (options_.observer) options_.observer->onWeight(light, 0, camera, t, weight, false);
             } else if (t == 1) {
                 // Light tracing: connect y(s−1) to the pinhole and splat; with equi-angular
@@ -409,7 +337,6 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 bool eaOn = anyEquiAngular && yPrev && edge.edgeMedium && !yPrev->delta && (realQs || edge.ghost);
                 bool ffOn = realQs && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
                             !(options_.connect == ConnectMode::EquiAngular && eaOn && edge.isMedium() && !edge.edgeCrossed);
-                const PathVertex edgeCopy = edge;
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
@@ -417,7 +344,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(light, s - 2);
-                    if (!equiAngularVertex(scene, edgeCopy, *yPrev, prevFrom, cam.position, nullptr, true, uEA, width, height, &v))
+                    if (!equiAngularVertex(scene, edge, *yPrev, prevFrom, cam.position, nullptr, true, uEA, width, height, &v))
                         continue;
                     swap.set(&light[s - 1], v);
                 }
@@ -434,8 +361,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     f = scatter(scene, qs, toCam, qs.wo, TransportMode::Importance);
                 }
                 if (isBlack(f)) continue;
-                PathVertex camVertex = camera[0];
-                Connection conn = connectVertices(scene, qs, camVertex, stats);
+                Connection conn = connectVertices(scene, qs, camera[0], stats);
                 if (isBlack(conn.T)) continue;
                 float cosCam = dot(-toCam, cam.forward);
                 Spectrum value = qs.beta * f * conn.T * (cc.We * cosCam / (cc.dist * cc.dist));
@@ -450,7 +376,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                         b.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, toCam, qs.wo, width, height),
                                                             qs.edgeDist) * qs.edgeRevFreeFlight);
                     }
-                    weight = misWeight(scene, light, camera, s, 1, options_.heuristic, options_.connect, ea, conn.crossed);
+                    weight = float(misWeight(scene, light, camera, s, 1, mis, ea, conn.crossed, lightMis, cameraMis));
                     if (options_.observer) options_.observer->onWeight(light, s, camera, 1, weight, ea);
                 }
                 if (std::isfinite(weight)) splats.splat(cc.fx, cc.fy, value * weight, width, height);
@@ -467,7 +393,6 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 const PathVertex& zPrev = camera[t - 2];
                 bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta && equiAngularAnchor(scene, l, uLight1, &anchor);
                 bool ffOn = freeFlightVariantOn(options_.connect, realPt, pt, eaOn);
-                const PathVertex edge = pt;
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
@@ -475,7 +400,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(camera, t - 2);
-                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, anchor, &l, false, uEA, width, height, &v)) continue;
+                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, anchor, &l, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);
@@ -527,7 +452,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                         b.set(&ptm.pdfRev, solidAngleToArea(ptm, pt.wo, vertexDirectionPdf(scene, pt, ls.wi, pt.wo, width, height),
                                                             pt.edgeDist) * pt.edgeRevFreeFlight);
                     }
-                    weight = misWeight(scene, lightPath, camera, 1, t, options_.heuristic, options_.connect, ea, conn.crossed);
+                    weight = float(misWeight(scene, lightPath, camera, 1, t, mis, ea, conn.crossed, lightMis, cameraMis));
                     if (options_.observer) options_.observer->onWeight(lightPath, 1, camera, t, weight, ea);
                 }
                 if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;
@@ -541,7 +466,6 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 const PathVertex& zPrev = camera[t - 2];
                 bool eaOn = anyEquiAngular && pt.edgeMedium && !zPrev.delta;
                 bool ffOn = freeFlightVariantOn(options_.connect, realPt, pt, eaOn);
-                const PathVertex edge = pt;
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
@@ -549,7 +473,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(camera, t - 2);
-                    if (!equiAngularVertex(scene, edge, zPrev, prevFrom, qs.p, nullptr, false, uEA, width, height, &v)) continue;
+                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, qs.p, nullptr, false, uEA, width, height, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);
@@ -576,7 +500,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     PathVertex& qsm = light[s - 2];
                     e.set(&qsm.pdfRev, solidAngleToArea(qsm, qs.wo, vertexDirectionPdf(scene, qs, -w, qs.wo, width, height),
                                                         qs.edgeDist) * qs.edgeRevFreeFlight);
-                    weight = misWeight(scene, light, camera, s, t, options_.heuristic, options_.connect, ea, conn.crossed);
+                    weight = float(misWeight(scene, light, camera, s, t, mis, ea, conn.crossed, lightMis, cameraMis));
                     if (options_.observer) options_.observer->onWeight(light, s, camera, t, weight, ea);
                 }
                 if (!isBlack(contrib) && std::isfinite(weight)) L += contrib * weight;

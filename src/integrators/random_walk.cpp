@@ -65,6 +65,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
     MediumStack media = start.media;
     Spectrum beta = start.beta;
     float pdfDir = start.pdfDir;
+    const float rrScale = maxComponent(start.beta) > 0 ? maxComponent(start.beta) : 1.0f;
     int count = 1, scatters = 0;
     if (maxVertices > 1) path[1].ghost = false;
     while (count < maxVertices && scatters < maxScatter) {
@@ -176,9 +177,11 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         prev.pdfRev = solidAngleToArea(prev, ray.d, pdfRevDir, dist) * revFF;
         if (!isFinite(beta) || isBlack(beta)) return count;
 
-        // Russian roulette from the fourth vertex: survive with min(0.95, max β).
+        // Russian roulette from the fourth vertex: survive with min(0.95, max β / max β0).
+        // Relative to the start: a light subpath's throughput carries the light's power
+        // (≫ 1), and without the scale it would only ever stop at the 0.95 cap.
         if (count >= 4) {
-            float survive = std::min(0.95f, maxComponent(beta));
+            float survive = std::min(0.95f, maxComponent(beta) / rrScale);
             if (sampler.next1D() >= survive) return count;
             beta /= survive;
         }

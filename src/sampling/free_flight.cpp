@@ -12,7 +12,13 @@ float sampleFreeFlight(Spectrum sigmaT, float u) {
     return -std::log1p(-v) / s;
 }
 
+namespace {
+// A grey medium (the common case) needs one exponential instead of three.
+bool grey(Spectrum sigmaT) { return sigmaT[0] == sigmaT[1] && sigmaT[1] == sigmaT[2]; }
+}  // namespace
+
 double freeFlightPdfScatter(Spectrum sigmaT, float t) {
+    if (grey(sigmaT)) return sigmaT[0] > 0 ? double(sigmaT[0]) * std::exp(-double(sigmaT[0]) * t) : 0.0;
     double sum = 0;
     for (int c = 0; c < 3; ++c)
         if (sigmaT[c] > 0) sum += double(sigmaT[c]) * std::exp(-double(sigmaT[c]) * t);
@@ -20,6 +26,7 @@ double freeFlightPdfScatter(Spectrum sigmaT, float t) {
 }
 
 double freeFlightPdfPass(Spectrum sigmaT, float t) {
+    if (grey(sigmaT)) return sigmaT[0] > 0 ? std::exp(-double(sigmaT[0]) * t) : 1.0;
     double sum = 0;
     for (int c = 0; c < 3; ++c) sum += sigmaT[c] > 0 ? std::exp(-double(sigmaT[c]) * t) : 1.0;
     return sum / 3.0;

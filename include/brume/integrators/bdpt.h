@@ -2,12 +2,11 @@
 // and a light subpath, every (s, t) connection strategy, MIS over all of them with densities
 // that include the free-flight sampling in both directions. docs/mis.md derives the weights.
 #pragma once
+#include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/renderer.h"
 
 namespace brume {
-
-enum class MisHeuristic { Balance, Power };
 
 struct PathVertex;
 

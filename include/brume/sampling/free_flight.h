@@ -10,6 +10,7 @@ namespace brume {
 inline Spectrum transmittance(Spectrum sigmaT, float t) {
     // Written per channel so that σt = 0 over an infinite distance gives 1, not NaN.
     auto tr = [t](float s) { return s > 0 ? std::exp(-s * t) : 1.0f; };
+    if (sigmaT.x == sigmaT.y && sigmaT.y == sigmaT.z) return Spectrum(tr(sigmaT.x));  // grey: one exp
     return {tr(sigmaT.x), tr(sigmaT.y), tr(sigmaT.z)};
 }
 

@@ -1,0 +1,143 @@
+#include "brume/integrators/bdpt_mis.h"
+
+#include <algorithm>
+
+#include "brume/sampling/equiangular.h"
+#include "brume/sampling/free_flight.h"
+
+// Notation (docs/mis.md): the full path x0 (pinhole) … xk (light); strategy (s, t) has camera
+// vertices z_i = x_i, i < t, and light vertices y_i = x(k−i), i < s. With r_m the density
+// ratio pdfRev/pdfFwd at a vertex and V_j the variant factor of the strategy with j camera
+// vertices (1, or more with an equi-angular variant), the weight's denominator is
+//   own + Σ_{i=1}^{t−1} Π_{m=i}^{t−1} r(z_m)^β V_i + c · Σ_{i=0}^{s−1} Π_{m=i}^{s−1} r(y_m)^β V_{t+s−i}
+// (c = ρ_own^−β for an equi-angular light connection, else 1; terms whose connection has a
+// specular end are left out). Both sums obey P(j) = r_j^β (V_j + P(j−1)); a connection alters
+// only r and V at the two vertices next to it on each side (their pdfRev and the variant
+// anchors), so P up to three vertices away comes from the subpath alone: misPrefixes.
+namespace brume {
+
+namespace {
+
+double remap0(double f) { return f != 0 ? f : 1.0; }
+
+// r^β at a vertex; zero densities (specular vertices) are mapped to 1 so that they cancel.
+double ratioPow(MisHeuristic h, const PathVertex& v) { return misPower(h, remap0(v.pdfRev) / remap0(v.pdfFwd)); }
+
+// The equi-angular variant's density relative to the free-flight one, ρ = p_ea / p_ff, for a
+// camera-side medium vertex v reached from p along an edge in one medium and aimed at a
+// (a light vertex aims at its light's anchor: the point of a triangle light, the centre of a
+// sphere light, the position of a point or spot light). A stand-in as docs/mis.md explains:
+// equi-angular over the unbounded ray from p, since the far end is not part of the path.
+double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a) {
+    if (!v.isMedium() || p.delta) return 0.0;
+    Vec3 anchor = a.p;
+    // A light vertex, or the camera walk's hit on a sphere light (always a path's end).
+    if (a.kind == VertexKind::Light || (a.isSurface() && a.mesh < 0 && a.light >= 0)) {
+        const Light& l = scene.lights()[a.light];
+        if (l.kind == LightKind::Directional) return 0.0;
+        if (l.kind != LightKind::Triangle) anchor = l.position;
+    }
+    Vec3 e = v.p - p.p;
+    float dist = length(e);
+    if (!(dist > 0)) return 0.0;
+    double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
+    if (!(pff > 0)) return 0.0;
+    EquiAngular ea = makeEquiAngular(p.p, e / dist, anchor, 0.0f, kInfinity);
+    return double(equiAngularPdf(ea, dist)) / pff;
+}
+
+// V for the strategy whose connection vertex v (camera side, reached from prev over an edge
+// that crossed a boundary or not) is joined to `anchor`: [free flight on] + [equi-angular
+// on] · ρ^β. *rho receives ρ (0: no equi-angular variant).
+double variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
+                     bool edgeCrossed, MisSettings st, double* rho) {
+    double r = 0.0;
+    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed) r = equiAngularRatio(scene, prev, v, anchor);
+    if (rho) *rho = r;
+    bool eaOn = r > 0;
+    bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
+    return (ffOn ? 1.0 : 0.0) + (eaOn ? misPower(st.heuristic, r) : 0.0);
+}
+
+}  // namespace
+
+void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings st, double* prefix,
+                 double* variant) {
+    if (cameraSide) {
+        // V_j (j camera vertices): z(j−1) reached from z(j−2), joined to z(j); for j = 1 the
+        // camera connection: x1 reached from x2, joined to the pinhole.
+        if (n > 0) prefix[0] = 0.0, variant[0] = 1.0;
+        for (int j = 1; j < n; ++j) {
+            if (j >= 2) variant[j] = variantFactor(scene, path[j - 2], path[j - 1], path[j], path[j - 1].edgeCrossed, st, nullptr);
+            else variant[j] = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], path[2].edgeCrossed, st, nullptr) : 1.0;
+            double term = !path[j].delta && !path[j - 1].delta ? variant[j] : 0.0;
+            prefix[j] = ratioPow(st.heuristic, path[j]) * (term + prefix[j - 1]);
+        }
+        return;
+    }
+    // Light side, y_i moved to the camera side: y_i reached from y(i+1), joined to y(i−1)
+    // (no variant for i = 0: the strategy would have no light vertex to aim at).
+    for (int i = 0; i < n; ++i) {
+        variant[i] = i >= 1 && i + 1 < n
+                         ? variantFactor(scene, path[i + 1], path[i], path[i - 1], path[i + 1].edgeCrossed, st, nullptr)
+                         : 1.0;
+        bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
+        double term = !path[i].delta && !deltaBefore ? variant[i] : 0.0;
+        prefix[i] = ratioPow(st.heuristic, path[i]) * (term + (i > 0 ? prefix[i - 1] : 0.0));
+    }
+}
+
+double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
+                 bool ownEquiAngular, bool connectionCrossed, const SubpathMis& lightMis, const SubpathMis& cameraMis) {
+    const MisHeuristic h = st.heuristic;
+    const int k = s + t - 1;  // vertices x0 … xk
+    auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
+    auto crossed = [&](int m) {  // the edge x(m−1)–x(m)
+        if (m < t) return camera[m].edgeCrossed;
+        if (m - 1 >= t) return at(m - 1).edgeCrossed;  // light subpath: stored on its later vertex
+        return connectionCrossed;
+    };
+    // V_tt on the joined path (tt camera vertices).
+    auto variants = [&](int tt, double* rho) {
+        if (tt >= 2 && k + 1 - tt >= 1) return variantFactor(scene, at(tt - 2), at(tt - 1), at(tt), crossed(tt - 1), st, rho);
+        if (tt == 1 && k >= 2) return variantFactor(scene, at(2), at(1), at(0), crossed(2), st, rho);
+        if (rho) *rho = 0.0;
+        return 1.0;
+    };
+    // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
+    // free-flight one may underflow far from where free flight goes), so all ratios are then
+    // relative to the equi-angular variant: its own term is 1 and the free-flight one 1/ρ.
+    double rhoOwn;
+    double sum = variants(t, &rhoOwn);
+    if (ownEquiAngular) {
+        bool ffOn = st.connect != ConnectMode::EquiAngular;
+        sum = 1.0 + (ffOn && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 0.0);
+    }
+    // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1) moved
+    // by an equi-angular sample or (for i = 1, t = 2) the light side.
+    double p = t - 3 >= 1 ? cameraMis.prefix[t - 3] : 0.0;
+    for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
+        int reads = std::max(i, 2);  // the last camera vertex V_i looks at
+        bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular);
+        double term = !camera[i].delta && !camera[i - 1].delta ? (own ? cameraMis.variant[i] : variants(i, nullptr)) : 0.0;
+        p = ratioPow(h, camera[i]) * (term + p);
+    }
+    sum += p;
+    // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on the
+    // camera side, made by free flight: relative to an equi-angular light connection that is
+    // a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every other
+    // strategy moves to the camera side.)
+    // V for y(s−2) is the subpath's own unless y(s−1) is an equi-angular camera connection's.
+    double q = s - 3 >= 0 ? lightMis.prefix[s - 3] : 0.0;
+    for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
+        bool own = i == s - 2 && !(t == 1 && ownEquiAngular);
+        bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
+        double term = !light[i].delta && !deltaBefore ? (own ? lightMis.variant[i] : variants(t + s - i, nullptr)) : 0.0;
+        q = ratioPow(h, light[i]) * (term + q);
+    }
+    double c = ownEquiAngular && t >= 2 && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 1.0;
+    sum += c * q;
+    return sum > 0 ? 1.0 / sum : 0.0;
+}
+
+}  // namespace brume

@@ -125,6 +125,8 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
         // The printed table has the same rows.
         CHECK(contains(first.out, methods[row]));
     }
+    // The chart and the report page (.ci/setup installs Debian's python3-matplotlib).
+    for (const char* file : {"/chart.png", "/chart.svg", "/report.html"}) CHECK(fs::exists(dir + file));
     for (const char* image : {"/pt_density.exr", "/pt_mis.exr"}) {
         int w = 0, h = 0;
         std::vector<float> rgb = brume::readImage(dir + image, &w, &h);
@@ -139,9 +141,18 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
 
     // A different reference spp does not match the cache.
     Run third = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) +
-                      " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis");
+                      " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart");
     CHECK(third.exitCode == 0);
     CHECK_FALSE(contains(third.out, "reused"));
+    CHECK_FALSE(contains(third.out, "chart"));
+
+    // Nor does another reference method; the record names it.
+    Run fourth = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) +
+                          " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart"
+                          " --reference-method bdpt:density");
+    CHECK(fourth.exitCode == 0);
+    CHECK_FALSE(contains(fourth.out, "reused"));
+    CHECK(contains(slurp(dir + "/reference.json"), "\"bdpt:density\""));
 }
 
 TEST_CASE("bench: usage errors exit with 2", "[cli][bench]") {

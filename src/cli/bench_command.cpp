@@ -4,6 +4,7 @@
 // once with pt:mis at many spp and cached in DIR) and the errors, the measured seconds and
 // the efficiency 1 / (relMSE · seconds) go to DIR/results.csv and to stdout.
 #include <signal.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -48,13 +49,18 @@ const char* const kBenchUsage =
     "\n"
     "options:\n"
     "  -o, --out DIR        output directory, created if missing (required)\n"
-    "  --methods LIST       comma-separated methods (default: the pt methods); see below\n"
+    "  --methods LIST       comma-separated methods (default: all six); see below\n"
     "  --budgets LIST       comma-separated time budgets in seconds (default 1,2,4)\n"
     "  --reference FILE     reference image (.exr or .pfm) of the benchmark's size; without\n"
     "                       it one is rendered with pt:mis (seed 24301), cached as\n"
     "                       DIR/reference.exr + DIR/reference.json and reused while the\n"
     "                       scene, the size and the spp match\n"
     "  --reference-spp N    spp of the rendered reference (default 1024)\n"
+    "  --reference-method M the method that renders the reference (default pt:mis; use a\n"
+    "                       bdpt method where only light tracing finds the light, e.g.\n"
+    "                       caustics through glass)\n"
+    "  --no-chart           skip the chart and report page (written otherwise by\n"
+    "                       docs/bench/plot_bench.py with Debian's python3-matplotlib)\n"
     "  --res WxH            image size (default 160x120)\n"
     "  --seed N             seed of the benchmark renders (default 1)\n"
     "  --threads N          worker threads (default: all hardware threads)\n"
@@ -140,6 +146,8 @@ struct BenchArgs {
     bool seedGiven = false;
     int referenceSpp = 1024;
     bool referenceSppGiven = false;
+    const BenchMethod* referenceMethod = nullptr;  // null: pt:mis
+    bool chart = true;
     int threads = 0;
     bool help = false;
 };
@@ -196,6 +204,13 @@ BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
         } else if (name == "--reference-spp") {
             a.referenceSpp = int(parseInteger(name, args.value(), 1, 1 << 24));
             a.referenceSppGiven = true;
+        } else if (name == "--reference-method") {
+            std::string item = args.value();
+            a.referenceMethod = findMethod(item);
+            if (!a.referenceMethod)
+                throw UsageError(name + ": unknown method '" + item + "' (available: " + methodNames() + ")");
+        } else if (name == "--no-chart") {
+            a.chart = false;
         } else if (name == "--res") {
             a.res = parseResolution(name, args.value());
         } else if (name == "--seed") {
@@ -214,6 +229,7 @@ BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
         for (const BenchMethod& m : kMethods)
             if (m.byDefault) a.methods.push_back(&m);
     if (!budgetsGiven) a.budgets = {1, 2, 4};
+    if (!a.referenceMethod) a.referenceMethod = findMethod(kReferenceMethod);
     if (!a.reference.empty()) {
         if (a.referenceSppGiven) throw UsageError("--reference and --reference-spp exclude each other");
         ImageFormat format;
@@ -301,7 +317,7 @@ std::string jsonString(const std::string& s) {
 // reference.json. Values are kept as JSON text; a cache matches when every field does.
 using Record = std::vector<std::pair<std::string, std::string>>;
 
-Record referenceRecord(const std::string& scenePath, Resolution res, int spp) {
+Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method) {
     std::error_code ec;
     fs::path absolute = fs::weakly_canonical(fs::absolute(scenePath), ec);
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
@@ -312,7 +328,7 @@ Record referenceRecord(const std::string& scenePath, Resolution res, int spp) {
         {"height", std::to_string(res.height)},
         {"spp", std::to_string(spp)},
         {"seed", std::to_string(kReferenceSeed)},
-        {"method", jsonString(kReferenceMethod)},
+        {"method", jsonString(method)},
     };
 }
 
@@ -437,6 +453,27 @@ std::vector<float> readReferenceFile(const std::string& path, Resolution res) {
     return rgb;
 }
 
+// The chart (DIR/chart.png, .svg) and report page (DIR/report.html), drawn by the plotting
+// script next to the sources with Debian's Python; a missing Python module is reported, not
+// an error: the numbers are in results.csv.
+void writeChart(const std::string& dir) {
+    const char* python = "/usr/bin/python3";
+    if (::access(python, X_OK) != 0 || ::access(BRUME_PLOT_SCRIPT, R_OK) != 0) {
+        std::printf("chart: skipped (needs %s and %s)\n", python, BRUME_PLOT_SCRIPT);
+        return;
+    }
+    std::fflush(stdout);
+    pid_t pid = ::fork();
+    if (pid == 0) {
+        ::execl(python, python, BRUME_PLOT_SCRIPT, dir.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    int status = 0;
+    if (pid < 0 || ::waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        std::printf("chart: not written (the plotting script failed; Debian: apt install python3-matplotlib "
+                    "python3-numpy python3-openimageio)\n");
+}
+
 }  // namespace
 
 int runBench(const std::vector<std::string>& argv) {
@@ -485,7 +522,7 @@ int runBench(const std::vector<std::string>& argv) {
     if (!a.reference.empty()) {
         std::printf("reference: %s (given)\n", a.reference.c_str());
     } else {
-        Record wanted = referenceRecord(a.scene, res, a.referenceSpp);
+        Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name);
         bool haveRecord = false;
         std::string cachedText = readTextFile(recordPath, &haveRecord);
         std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";
@@ -497,7 +534,7 @@ int runBench(const std::vector<std::string>& argv) {
             }
         }
         char what[128];
-        std::snprintf(what, sizeof what, "%s, %d spp, seed %llu", kReferenceMethod, a.referenceSpp,
+        std::snprintf(what, sizeof what, "%s, %d spp, seed %llu", a.referenceMethod->name, a.referenceSpp,
                       static_cast<unsigned long long>(kReferenceSeed));
         if (why.empty()) {
             std::printf("reference: reused %s (%s)\n", referencePath.c_str(), what);
@@ -506,7 +543,7 @@ int runBench(const std::vector<std::string>& argv) {
             std::fflush(stdout);
             std::error_code ec;
             fs::remove(recordPath, ec);  // never a record beside an image it does not describe
-            std::unique_ptr<Integrator> integrator = findMethod(kReferenceMethod)->make();
+            std::unique_ptr<Integrator> integrator = a.referenceMethod->make();
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;
@@ -604,6 +641,7 @@ int runBench(const std::vector<std::string>& argv) {
     std::printf("\n");
     std::fflush(stdout);
     signal(SIGINT, SIG_DFL);
+    if (a.chart) writeChart(a.outDir);
     return kExitOk;
 }
 

@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/visibility.h"
 #include "brume/sampling/equiangular.h"
@@ -34,6 +35,7 @@ struct Checker : BdptObserver {
     const Scene* scene = nullptr;
     MisHeuristic heuristic = MisHeuristic::Power;
     ConnectMode connect = ConnectMode::Density;
+    bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
     mutable std::mutex mutex;
     mutable double worst = 0;
     mutable long paths = 0;
@@ -95,8 +97,35 @@ struct Checker : BdptObserver {
         return connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed;
     }
 
+    // p_ea of v on the ray from p aimed at `anchor`: over the unbounded ray (the stand-in), or
+    // with `exact` over the ray's first medium segment, clipped to the light's cone or front
+    // half-space (clip) or to the frustum (toCamera).
+    double eaPdf(const PathVertex& p, const PathVertex& v, Vec3 anchor, const Light* clip, bool toCamera) const {
+        Vec3 e = v.p - p.p;
+        float dist = length(e);
+        Vec3 w = e / dist;
+        if (!exact) return equiAngularPdf(makeEquiAngular(p.p, w, anchor, 0.0f, kInfinity), dist);
+        Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
+        SurfaceHit hit = scene->intersect(Ray{o, w, kInfinity});
+        float a = 0, b = hit.valid() ? hit.t : kInfinity;
+        if (clip && clip->kind == LightKind::Spot && !clipToSpotCone(*clip, o, w, &a, &b)) return 0;
+        if (clip && clip->kind == LightKind::Triangle && !scene->material(clip->mesh).doubleSided) {
+            const Mesh& mesh = scene->mesh(clip->mesh);
+            const uint32_t* idx = &mesh.indices[3 * clip->triangle];
+            Vec3 p0 = mesh.positions[idx[0]];
+            Vec3 n = cross(mesh.positions[idx[1]] - p0, mesh.positions[idx[2]] - p0);
+            float h = dot(n, o - p0), dn = dot(n, w);  // front side: h + t·dn > 0
+            if (dn > 0) a = std::max(a, -h / dn);
+            else if (dn < 0) b = std::min(b, -h / dn);
+            else if (h <= 0) return 0;
+        }
+        if (toCamera && !clipToFrustum(scene->camera(), kW, kW, o, w, &a, &b)) return 0;
+        if (!(a < b)) return 0;
+        return equiAngularPdf(makeEquiAngular(o, w, anchor, a, b), length(v.p - o));
+    }
+
     // ρ = p_ea / p_ff for x[m] reached from x[m−1] and aimed at x[m+1] (0 if no such variant):
-    // equi-angular over the unbounded ray, the light's anchor for a light vertex.
+    // the light's anchor for a light vertex.
     double equiAngularRatio(const std::vector<PathVertex>& x, int m, bool lastIsLight) const {
         const PathVertex& v = x[m];
         const PathVertex& p = x[m - 1];
@@ -106,14 +135,16 @@ struct Checker : BdptObserver {
         float dist = length(e);
         Vec3 w = e / dist;
         Vec3 anchor = a.p;
+        const Light* clip = nullptr;
         if (lastIsLight && m + 1 == int(x.size()) - 1) {
             const Light& l = scene->lights()[a.light];
             if (l.kind == LightKind::Directional) return 0;
             if (l.kind != LightKind::Triangle) anchor = l.position;
+            clip = &l;
         }
+        (void)w;
         double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
-        EquiAngular ea = makeEquiAngular(p.p, w, anchor, 0.0f, kInfinity);
-        return pff > 0 ? equiAngularPdf(ea, dist) / pff : 0;
+        return pff > 0 ? eaPdf(p, v, anchor, clip, false) / pff : 0;
     }
 
     // The same for the camera as a point light: x[1] reached from x[2], aimed at the pinhole x[0].
@@ -124,9 +155,9 @@ struct Checker : BdptObserver {
         Vec3 e = v.p - p.p;
         float dist = length(e);
         Vec3 w = e / dist;
+        (void)w;
         double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
-        EquiAngular ea = makeEquiAngular(p.p, w, x[0].p, 0.0f, kInfinity);
-        return pff > 0 ? equiAngularPdf(ea, dist) / pff : 0;
+        return pff > 0 ? eaPdf(p, v, x[0].p, nullptr, true) / pff : 0;
     }
 
     void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight,
@@ -222,15 +253,17 @@ struct Checker : BdptObserver {
 
 namespace {
 
-void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density) {
+void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
         checker.scene = scene.get();
         checker.heuristic = h;
         checker.connect = connect;
+        checker.exact = exact;
         BdptOptions opt{4, h};
         opt.connect = connect;
+        opt.exactEquiAngular = exact;
         opt.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
@@ -264,6 +297,13 @@ TEST_CASE("bdpt MIS weights with equi-angular light connections (mis and equiang
         checkWeights("bdpt_window_fog.gltf", 16, m);
         checkWeights("bdpt_glass_sphere.gltf", 4, m);
     }
+}
+
+TEST_CASE("bdpt MIS weights with exact (bounded, clipped) equi-angular densities", "[bdpt][mis]") {
+    checkWeights("quad_light_fog.gltf", 4, ConnectMode::Mis, true);
+    checkWeights("single_spot.gltf", 4, ConnectMode::Mis, true);   // cone clipping
+    checkWeights("area_sphere.gltf", 4, ConnectMode::Mis, true);
+    checkWeights("bdpt_glass_sphere.gltf", 4, ConnectMode::Mis, true);
 }
 
 // Open: with the camera outside an invisible fog boundary, light-tracing paths (t = 1) show

@@ -81,9 +81,10 @@ std::unique_ptr<Integrator> pathTracer(ConnectMode connect) {
     return std::make_unique<PathTracer>(options);
 }
 
-std::unique_ptr<Integrator> bdpt(ConnectMode connect) {
+std::unique_ptr<Integrator> bdpt(ConnectMode connect, bool exactEquiAngular = false) {
     BdptOptions options;
     options.connect = connect;
+    options.exactEquiAngular = exactEquiAngular;
     return std::make_unique<BdptIntegrator>(options);
 }
 
@@ -107,6 +108,8 @@ const BenchMethod kMethods[] = {
      [] { return bdpt(ConnectMode::EquiAngular); }},
     {"bdpt:mis", true, "bidirectional path tracer, both connection variants MIS-weighted",
      [] { return bdpt(ConnectMode::Mis); }},
+    {"bdpt:mis-exact", false, "bdpt:mis with exact equi-angular densities in the weights (a ray each)",
+     [] { return bdpt(ConnectMode::Mis, true); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";

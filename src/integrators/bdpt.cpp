@@ -136,23 +136,23 @@ Connection connectVertices(const Scene& scene, const PathVertex& a, const PathVe
 
 // The equi-angular variant of camera vertex z(t−1): a point on the ray the camera walk traced
 // from z(t−2) (whatever the free flight made of it: a medium point, a surface, or nothing),
-// within that ray's first medium, sampled towards `anchor` (clipped to what `clip` can light,
-// if given). `edge` holds the ray (PathVertex::edge*), prev is z(t−2), prevFrom the direction
-// from z(t−2) back towards z(t−3). u picks the distance.
+// within that ray's first medium, sampled towards `aim` (clipped as it says). `edge` holds
+// the ray (PathVertex::edge*), prev is z(t−2), prevFrom the direction from z(t−2) back
+// towards z(t−3). u picks the distance. (Also y(s−1) towards the pinhole, with the light walk.)
 bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
-                       Vec3 anchor, const Light* clip, bool toCamera, float u, int width, int height, PathVertex* out) {
+                       const EquiAngularAim& aim, MisSettings mis, float u, PathVertex* out) {
     MediumSegment seg{edge.edgeOrigin, edge.edgeDir, edge.edgeEnd, edge.edgeMedium};
     EquiAngular ea;
-    if (clip) {
-        if (!equiAngularTowards(scene, *clip, anchor, seg, &ea)) return false;
-    } else if (toCamera) {
+    if (aim.clip) {
+        if (!equiAngularTowards(scene, *aim.clip, aim.anchor, seg, &ea)) return false;
+    } else if (aim.toCamera) {
         // The camera as a point light: only the part of the ray inside the view frustum can
         // reach the film.
         float a = 0, b = seg.tEnd;
-        if (!clipToFrustum(scene.camera(), width, height, seg.o, seg.d, &a, &b)) return false;
-        ea = makeEquiAngular(seg.o, seg.d, anchor, a, b);
+        if (!clipToFrustum(scene.camera(), mis.width, mis.height, seg.o, seg.d, &a, &b)) return false;
+        ea = makeEquiAngular(seg.o, seg.d, aim.anchor, a, b);
     } else {
-        ea = makeEquiAngular(seg.o, seg.d, anchor, 0.0f, seg.tEnd);
+        ea = makeEquiAngular(seg.o, seg.d, aim.anchor, 0.0f, seg.tEnd);
     }
     float t = sampleEquiAngular(ea, u);
     float pea = equiAngularPdf(ea, t);
@@ -178,11 +178,10 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     v.edgeMedia = edge.edgeMedia;
     v.edgeFwdFreeFlight = freeFlightPdfScatter(sigmaT, dist);
     v.edgeRevFreeFlight = prev.isMedium() ? v.edgeFwdFreeFlight : freeFlightPdfPass(sigmaT, dist);
-    // pdfFwd: the equi-angular density of the point, with the stand-in the weights use
-    // (unbounded ray from z(t−2)): direction density × 1/d² × p_ea.
-    EquiAngular standIn = makeEquiAngular(prev.p, -v.wo, anchor, 0.0f, kInfinity);
-    v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, width, height), dist) *
-               equiAngularPdf(standIn, dist);
+    // pdfFwd: the equi-angular density of the point as the weights see it (the stand-in
+    // unless exact): direction density × 1/d² × p_ea.
+    v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height), dist) *
+               equiAngularDensity(scene, prev, v, aim, mis);
     *out = v;
     return v.pdfFwd > 0;
 }
@@ -283,7 +282,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
     Spectrum L(0.0f);
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    const MisSettings mis{options_.heuristic, options_.connect};
+    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, width, height};
     const SubpathMis cameraMis{paths.cameraPrefix.data(), paths.cameraVariant.data()};
     const SubpathMis lightMis{paths.lightPrefix.data(), paths.lightVariant.data()};
     if (weighted) {
@@ -344,7 +343,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(light, s - 2);
-                    if (!equiAngularVertex(scene, edge, *yPrev, prevFrom, cam.position, nullptr, true, uEA, width, height, &v))
+                    if (!equiAngularVertex(scene, edge, *yPrev, prevFrom, equiAngularAim(scene, camera[0], false), mis, uEA, &v))
                         continue;
                     swap.set(&light[s - 1], v);
                 }
@@ -400,7 +399,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(camera, t - 2);
-                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, anchor, &l, false, uEA, width, height, &v)) continue;
+                    EquiAngularAim aim{true, anchor, &l, false};
+                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, aim, mis, uEA, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);
@@ -473,7 +473,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 if (ea) {
                     PathVertex v;
                     Vec3 prevFrom = towardsPrevious(camera, t - 2);
-                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, qs.p, nullptr, false, uEA, width, height, &v)) continue;
+                    if (!equiAngularVertex(scene, pt, zPrev, prevFrom, equiAngularAim(scene, qs, false), mis, uEA, &v)) continue;
                     swap.set(&camera[t - 1], v);
                 }
                 Spectrum contrib(0.0f);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 
+#include "brume/integrators/equiangular_segment.h"
+#include "brume/integrators/visibility.h"
 #include "brume/sampling/equiangular.h"
 #include "brume/sampling/free_flight.h"
+#include "brume/scene/camera_importance.h"
 
 // Notation (docs/mis.md): the full path x0 (pinhole) … xk (light); strategy (s, t) has camera
 // vertices z_i = x_i, i < t, and light vertices y_i = x(k−i), i < s. With r_m the density
@@ -23,36 +26,27 @@ double remap0(double f) { return f != 0 ? f : 1.0; }
 // r^β at a vertex; zero densities (specular vertices) are mapped to 1 so that they cancel.
 double ratioPow(MisHeuristic h, const PathVertex& v) { return misPower(h, remap0(v.pdfRev) / remap0(v.pdfFwd)); }
 
-// The equi-angular variant's density relative to the free-flight one, ρ = p_ea / p_ff, for a
-// camera-side medium vertex v reached from p along an edge in one medium and aimed at a
-// (a light vertex aims at its light's anchor: the point of a triangle light, the centre of a
-// sphere light, the position of a point or spot light). A stand-in as docs/mis.md explains:
-// equi-angular over the unbounded ray from p, since the far end is not part of the path.
-double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a) {
+// ρ = p_ea / p_ff for a camera-side medium vertex v reached from p and joined to a.
+double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a,
+                        bool aEndsPath, MisSettings st) {
     if (!v.isMedium() || p.delta) return 0.0;
-    Vec3 anchor = a.p;
-    // A light vertex, or the camera walk's hit on a sphere light (always a path's end).
-    if (a.kind == VertexKind::Light || (a.isSurface() && a.mesh < 0 && a.light >= 0)) {
-        const Light& l = scene.lights()[a.light];
-        if (l.kind == LightKind::Directional) return 0.0;
-        if (l.kind != LightKind::Triangle) anchor = l.position;
-    }
-    Vec3 e = v.p - p.p;
-    float dist = length(e);
+    EquiAngularAim aim = equiAngularAim(scene, a, aEndsPath);
+    if (!aim.valid) return 0.0;
+    float dist = length(v.p - p.p);
     if (!(dist > 0)) return 0.0;
     double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
     if (!(pff > 0)) return 0.0;
-    EquiAngular ea = makeEquiAngular(p.p, e / dist, anchor, 0.0f, kInfinity);
-    return double(equiAngularPdf(ea, dist)) / pff;
+    return equiAngularDensity(scene, p, v, aim, st) / pff;
 }
 
 // V for the strategy whose connection vertex v (camera side, reached from prev over an edge
-// that crossed a boundary or not) is joined to `anchor`: [free flight on] + [equi-angular
-// on] · ρ^β. *rho receives ρ (0: no equi-angular variant).
+// that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
+// [free flight on] + [equi-angular on] · ρ^β. *rho receives ρ (0: no equi-angular variant).
 double variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                     bool edgeCrossed, MisSettings st, double* rho) {
+                     bool anchorEndsPath, bool edgeCrossed, MisSettings st, double* rho) {
     double r = 0.0;
-    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed) r = equiAngularRatio(scene, prev, v, anchor);
+    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed)
+        r = equiAngularRatio(scene, prev, v, anchor, anchorEndsPath, st);
     if (rho) *rho = r;
     bool eaOn = r > 0;
     bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
@@ -61,6 +55,49 @@ double variantFactor(const Scene& scene, const PathVertex& prev, const PathVerte
 
 }  // namespace
 
+EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool endsPath) {
+    EquiAngularAim aim;
+    aim.valid = true;
+    aim.anchor = a.p;
+    if (a.kind == VertexKind::Camera) {
+        aim.toCamera = true;
+    } else if (a.kind == VertexKind::Light || (endsPath && a.isSurface() && a.light >= 0)) {
+        const Light& l = scene.lights()[a.light];
+        if (l.kind == LightKind::Directional) return EquiAngularAim{};
+        if (l.kind != LightKind::Triangle) aim.anchor = l.position;
+        aim.clip = &l;
+    }
+    return aim;
+}
+
+// The stand-in: equi-angular over [0, ∞) of the ray from prev's position, no clipping. It is
+// positive wherever the sampler can place v (docs/mis.md), and needs no ray: from the light
+// side the segment's far end is not part of the path. Exact: the segment the sampler would
+// have had, found with a ray cast from prev's offset origin to the first surface.
+double equiAngularDensity(const Scene& scene, const PathVertex& prev, const PathVertex& v, const EquiAngularAim& aim,
+                          MisSettings st) {
+    Vec3 e = v.p - prev.p;
+    float dist = length(e);
+    if (!(dist > 0)) return 0.0;
+    Vec3 d = e / dist;
+    if (!st.exactEquiAngular) return equiAngularPdf(makeEquiAngular(prev.p, d, aim.anchor, 0.0f, kInfinity), dist);
+    bool offset = prev.kind == VertexKind::Surface || (prev.kind == VertexKind::Light && dot(prev.ng, prev.ng) > 0);
+    Vec3 o = offset ? offsetOrigin(prev.p, prev.ng, d) : prev.p;
+    SurfaceHit hit = scene.intersect(Ray{o, d, kInfinity});
+    MediumSegment seg{o, d, hit.valid() ? hit.t : kInfinity, v.medium};
+    EquiAngular ea;
+    if (aim.clip) {
+        if (!equiAngularTowards(scene, *aim.clip, aim.anchor, seg, &ea)) return 0.0;
+    } else if (aim.toCamera) {
+        float a = 0, b = seg.tEnd;
+        if (!clipToFrustum(scene.camera(), st.width, st.height, o, d, &a, &b)) return 0.0;
+        ea = makeEquiAngular(o, d, aim.anchor, a, b);
+    } else {
+        ea = makeEquiAngular(o, d, aim.anchor, 0.0f, seg.tEnd);
+    }
+    return equiAngularPdf(ea, length(v.p - o));
+}
+
 void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings st, double* prefix,
                  double* variant) {
     if (cameraSide) {
@@ -68,8 +105,10 @@ void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraS
         // camera connection: x1 reached from x2, joined to the pinhole.
         if (n > 0) prefix[0] = 0.0, variant[0] = 1.0;
         for (int j = 1; j < n; ++j) {
-            if (j >= 2) variant[j] = variantFactor(scene, path[j - 2], path[j - 1], path[j], path[j - 1].edgeCrossed, st, nullptr);
-            else variant[j] = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], path[2].edgeCrossed, st, nullptr) : 1.0;
+            if (j >= 2)
+                variant[j] = variantFactor(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr);
+            else
+                variant[j] = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr) : 1.0;
             double term = !path[j].delta && !path[j - 1].delta ? variant[j] : 0.0;
             prefix[j] = ratioPow(st.heuristic, path[j]) * (term + prefix[j - 1]);
         }
@@ -79,7 +118,7 @@ void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraS
     // (no variant for i = 0: the strategy would have no light vertex to aim at).
     for (int i = 0; i < n; ++i) {
         variant[i] = i >= 1 && i + 1 < n
-                         ? variantFactor(scene, path[i + 1], path[i], path[i - 1], path[i + 1].edgeCrossed, st, nullptr)
+                         ? variantFactor(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
                          : 1.0;
         bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
         double term = !path[i].delta && !deltaBefore ? variant[i] : 0.0;
@@ -99,8 +138,9 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
     };
     // V_tt on the joined path (tt camera vertices).
     auto variants = [&](int tt, double* rho) {
-        if (tt >= 2 && k + 1 - tt >= 1) return variantFactor(scene, at(tt - 2), at(tt - 1), at(tt), crossed(tt - 1), st, rho);
-        if (tt == 1 && k >= 2) return variantFactor(scene, at(2), at(1), at(0), crossed(2), st, rho);
+        if (tt >= 2 && k + 1 - tt >= 1)
+            return variantFactor(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, crossed(tt - 1), st, rho);
+        if (tt == 1 && k >= 2) return variantFactor(scene, at(2), at(1), at(0), false, crossed(2), st, rho);
         if (rho) *rho = 0.0;
         return 1.0;
     };
@@ -114,11 +154,12 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
         sum = 1.0 + (ffOn && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 0.0);
     }
     // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1) moved
-    // by an equi-angular sample or (for i = 1, t = 2) the light side.
+    // by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the subpath's
+    // V treats no camera vertex as the light), or (for i = 1, t = 2) the light side.
     double p = t - 3 >= 1 ? cameraMis.prefix[t - 3] : 0.0;
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
-        bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular);
+        bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1);
         double term = !camera[i].delta && !camera[i - 1].delta ? (own ? cameraMis.variant[i] : variants(i, nullptr)) : 0.0;
         p = ratioPow(h, camera[i]) * (term + p);
     }

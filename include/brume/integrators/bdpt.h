@@ -32,6 +32,9 @@ struct BdptOptions {
     // vertex z(t−1) is sampled equi-angularly towards y(s−1) instead of by free flight;
     // Mis = both variants, MIS-weighted (docs/mis.md).
     ConnectMode connect = ConnectMode::Density;
+    // Equi-angular densities in the weights over the real, clipped segment (a ray cast each)
+    // instead of the unbounded-ray stand-in; for measuring the difference (docs/results.md).
+    bool exactEquiAngular = false;
     const BdptObserver* observer = nullptr;
 };
 

@@ -13,7 +13,29 @@ namespace brume {
 struct MisSettings {
     MisHeuristic heuristic = MisHeuristic::Power;
     ConnectMode connect = ConnectMode::Density;
+    // Equi-angular densities of connection vertices: false = the stand-in over the unbounded
+    // ray from the previous vertex (docs/mis.md); true = over the part of that ray in its
+    // medium, clipped as the sampler clips it (one ray cast per density; for measurements).
+    bool exactEquiAngular = false;
+    int width = 0, height = 0;  // the film, for clipping to the view frustum
 };
+
+// What equi-angular sampling towards vertex `a` aims at: a light vertex, or the camera walk's
+// hit on an emitter that ends the path (endsPath), aims at its light's anchor and is clipped
+// to what the light can reach; the pinhole at itself, clipped to the frustum; any other
+// vertex at itself. valid = false for a directional light, which has no position.
+struct EquiAngularAim {
+    bool valid = false;
+    Vec3 anchor;
+    const Light* clip = nullptr;  // light whose cone / front half-space clips the segment
+    bool toCamera = false;        // clip to the view frustum
+};
+EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool endsPath);
+
+// The equi-angular density (per unit length) with which medium vertex v is placed on the ray
+// from prev aimed at `aim`, as the weights use it (stand-in or exact, by settings).
+double equiAngularDensity(const Scene& scene, const PathVertex& prev, const PathVertex& v, const EquiAngularAim& aim,
+                          MisSettings settings);
 
 // What misWeight needs of one subpath, from the densities its walk stored (n vertices):
 // prefix[j] = Σ_{i ≤ j} Π_{m=i..j} r_m^β · V_i (camera: i ≥ 1; light: i ≥ 0) and the variant

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The figures of docs/results.md: `brume bench` with all six methods (budgets 1, 2, 4 s at
+# 160x120) on every bundled scene and on the five scenes of the BDPT tests, then each chart
+# (PNG, SVG) and results table copied to docs/bench/results/. About 30 minutes on 2 cores;
+# run it on an otherwise idle machine (bench warns when its threads were starved).
+#   bash docs/bench/run_all.sh [WORKDIR]      (default build/bench; references are cached there)
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+work=${1:-build/bench}
+dest=docs/bench/results
+mkdir -p "$dest"
+
+scenes=(scenes/*.gltf
+        tests/data/single_near.gltf tests/data/single_spot.gltf tests/data/bdpt_quad_fogbox.gltf
+        tests/data/bdpt_window_fog.gltf tests/data/bdpt_glass_sphere.gltf)
+for scene in "${scenes[@]}"; do
+  name=$(basename "$scene" .gltf)
+  # Where light reaches the fog through glass only light tracing finds it: a bdpt reference.
+  reference=pt:mis
+  case "$name" in caustic | bdpt_glass_sphere) reference=bdpt:density ;; esac
+  build/brume bench "$scene" --out "$work/$name" --reference-method "$reference" --budgets 1,2,4
+  cp "$work/$name/chart.png" "$dest/$name.png"
+  cp "$work/$name/chart.svg" "$dest/$name.svg"
+  cp "$work/$name/results.csv" "$dest/$name.csv"
+done

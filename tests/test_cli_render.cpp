@@ -1,6 +1,7 @@
 // The brume executable, run as a user would: exit codes and one-line errors for bad command
 // lines, files and scenes, never a partial or temporary file left behind, the three output
-// formats, identical images for 1 and 2 threads, seeds. Also image_io directly.
+// formats, identical images for 1 and 2 threads, seeds, no non-finite samples in the bundled
+// scenes. Also image_io directly.
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -285,4 +287,26 @@ TEST_CASE("image_io: PFM layout, round trips, failures leave nothing", "[cli][io
     auto files = dir.files();
     std::sort(files.begin(), files.end());
     CHECK(files == std::vector<std::string>{"a.exr", "a.pfm", "d.exr"});
+}
+
+TEST_CASE("cli: every bundled scene renders with no non-finite samples, pt and bdpt", "[cli][scenes]") {
+    std::vector<std::string> scenes;
+    for (const auto& e : fs::directory_iterator(BRUME_SCENES))
+        if (e.path().extension() == ".gltf") scenes.push_back(e.path().string());
+    std::sort(scenes.begin(), scenes.end());
+    CHECK(scenes.size() >= 6);
+    TempDir dir;
+    const std::regex summary(R"(64x48, 2 spp, .*, (\d+) non-finite, peak (\d+) MiB)");
+    for (const std::string& scene : scenes)
+        for (const char* integrator : {"pt", "bdpt"}) {
+            INFO(scene << " --integrator " << integrator);
+            Result r = runBrume("render " + quote(scene) + " -o " + quote(dir / "s.pfm") +
+                                " --res 64x48 --spp 2 --integrator " + integrator);
+            INFO("stdout: " << r.out << "stderr: " << r.err);
+            REQUIRE(r.code == 0);
+            std::smatch m;
+            REQUIRE(std::regex_search(r.out, m, summary));
+            CHECK(m[1] == "0");
+            CHECK(std::stoi(m[2]) > 0);
+        }
 }

@@ -1,6 +1,7 @@
 // Film accumulation and the renderer's scheduling, with fake integrators on an empty scene:
 // averaging over passes, the (seed, pixel, pass) sample streams, identical images for any
-// thread count (splats included), dropped non-finite samples, time budgets, cancellation.
+// thread count (splats included), dropped non-finite samples, time budgets, cancellation,
+// abandoned passes and films restored between passes.
 #include <catch2/catch.hpp>
 
 #include <atomic>
@@ -269,4 +270,156 @@ TEST_CASE("renderer: bad options and integrator exceptions", "[renderer]") {
     ThrowingIntegrator thrower;
     Film big(40, 40);
     CHECK_THROWS_WITH(render(emptyScene(), thrower, options(40, 40, 2, 2), big), "integrator failure");
+}
+
+namespace {
+
+// FirstDrawIntegrator that raises `flag` when it reaches pixel (x, y) in pass `pass` (known
+// from the sampler stream it is given: it compares the first draw with that of the target).
+struct CancellingIntegrator : Integrator {
+    std::atomic<bool>* flag;
+    uint64_t seed;
+    int width, x, y, pass;
+    Spectrum sample(const Scene&, float fx, float fy, int, int, Sampler& sampler, PathStats&) const override {
+        float v = sampler.next1D();
+        if (int(fx) == x && int(fy) == y) {
+            Sampler target(seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
+            target.next2D();
+            if (target.next1D() == v) flag->store(true);
+        }
+        return Spectrum(v);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("film: restore puts the exact state back, splats included", "[film]") {
+    Film film(3, 2);
+    film.add(1, 1, Spectrum(0.1f, 0.2f, 0.3f));
+    film.splat(2, 0, Spectrum(1.0f / 3.0f));
+    film.completePass();
+    Film copy(3, 2);
+    copy.restore(film.passes(), film.sampleSums(), film.splatSums());
+    CHECK(copy.passes() == 1);
+    CHECK(copy.hasSplats());
+    CHECK(copy.sampleSums() == film.sampleSums());
+    CHECK(copy.splatSums() == film.splatSums());
+    CHECK(copy.rgb() == film.rgb());
+
+    CHECK_THROWS_AS(copy.restore(-1, film.sampleSums(), {}), std::invalid_argument);
+    CHECK_THROWS_AS(copy.restore(1, std::vector<double>(17), {}), std::invalid_argument);
+    CHECK_THROWS_AS(copy.restore(1, film.sampleSums(), std::vector<double>(3)), std::invalid_argument);
+    copy.restore(4, std::vector<double>(18, 2.0), {});
+    CHECK_FALSE(copy.hasSplats());
+    CHECK(copy.pixel(0, 0).x == 0.5f);
+}
+
+TEST_CASE("renderer: a film restored between passes continues to the same bits", "[renderer]") {
+    const int w = 37, h = 21;
+    SplattingFake integrator;
+    Film straight(w, h);
+    render(emptyScene(), integrator, options(w, h, 5, 2), straight);
+
+    Film first(w, h);
+    render(emptyScene(), integrator, options(w, h, 2, 3), first);
+    Film resumed(w, h);
+    resumed.restore(first.passes(), first.sampleSums(), first.splatSums());
+    render(emptyScene(), integrator, options(w, h, 3, 1), resumed);
+    CHECK(resumed.passes() == 5);
+    CHECK(resumed.sampleSums() == straight.sampleSums());
+    CHECK(resumed.splatSums() == straight.splatSums());
+    CHECK(resumed.rgb() == straight.rgb());
+}
+
+TEST_CASE("renderer: dropInFlight abandons the pass in flight without a trace", "[renderer]") {
+    const int w = 40, h = 40, spp = 6;  // 9 tiles
+    const uint64_t seed = 7;
+
+    SECTION("cancelled before the first pass: nothing rendered") {
+        FirstDrawIntegrator integrator;
+        std::atomic<bool> cancel{true};
+        RenderControl control;
+        control.cancel = &cancel;
+        control.dropInFlight = true;
+        Film film(w, h);
+        RenderStats stats = render(emptyScene(), integrator, options(w, h, spp, 2, seed), film, control);
+        CHECK(stats.passes == 0);
+        CHECK(stats.samples == 0);
+        CHECK(film.passes() == 0);
+        for (double v : film.sampleSums()) REQUIRE(v == 0.0);
+    }
+    SECTION("cancelled in the middle of pass 2 (0-based): the film holds passes 0 and 1") {
+        std::atomic<bool> cancel{false};
+        CancellingIntegrator integrator;
+        integrator.flag = &cancel;
+        integrator.seed = seed;
+        integrator.width = w;
+        integrator.x = 20;  // the middle tile, so other tiles are left
+        integrator.y = 20;
+        integrator.pass = 2;
+        RenderControl control;
+        control.cancel = &cancel;
+        control.dropInFlight = true;
+        std::vector<int> seen;
+        control.afterPass = [&](const Film& f, const RenderStats& s) {
+            CHECK(f.passes() == s.passes);
+            seen.push_back(f.passes());
+        };
+        Film film(w, h);
+        RenderStats stats = render(emptyScene(), integrator, options(w, h, spp, 1, seed), film, control);
+        CHECK(stats.passes == 2);
+        CHECK(stats.samples == uint64_t(2 * w * h));
+        CHECK(film.passes() == 2);
+        CHECK(seen == std::vector<int>{1, 2});
+
+        FirstDrawIntegrator plain;
+        Film two(w, h);
+        render(emptyScene(), plain, options(w, h, 2, 1, seed), two);
+        CHECK(film.sampleSums() == two.sampleSums());
+    }
+    SECTION("without dropInFlight the pass in flight is finished") {
+        std::atomic<bool> cancel{false};
+        CancellingIntegrator integrator;
+        integrator.flag = &cancel;
+        integrator.seed = seed;
+        integrator.width = w;
+        integrator.x = 20;
+        integrator.y = 20;
+        integrator.pass = 2;
+        Film film(w, h);
+        RenderStats stats = render(emptyScene(), integrator, options(w, h, spp, 1, seed), film, &cancel);
+        CHECK(stats.passes == 3);
+        CHECK(film.passes() == 3);
+    }
+}
+
+TEST_CASE("renderer: non-finite samples and splats of a dropped pass are not counted", "[renderer]") {
+    struct Integrator2 : SplattingIntegrator {
+        std::atomic<bool>* flag;
+        Spectrum sampleWithSplats(const Scene&, float fx, float fy, int width, int height, Sampler&, PathStats&,
+                                  SplatList& splats) const override {
+            splats.splat(fx, fy, Spectrum(std::numeric_limits<float>::infinity()), width, height);
+            if (int(fx) == 0 && int(fy) == 0) {
+                // Pixel (0,0) is in the first tile: the third time round, cancel.
+                if (++calls == 3) flag->store(true);
+                return Spectrum(std::numeric_limits<float>::quiet_NaN());
+            }
+            return Spectrum(1.0f);
+        }
+        mutable std::atomic<int> calls{0};
+    };
+    std::atomic<bool> cancel{false};
+    Integrator2 integrator;
+    integrator.flag = &cancel;
+    RenderControl control;
+    control.cancel = &cancel;
+    control.dropInFlight = true;
+    const int w = 20, h = 20;
+    Film film(w, h);
+    RenderStats stats = render(emptyScene(), integrator, options(w, h, 5, 1), film, control);
+    CHECK(stats.passes == 2);
+    // Per completed pass: one NaN sample and one infinite splat per pixel.
+    CHECK(stats.nonFinite == uint64_t(2 * (1 + w * h)));
+    CHECK(film.pixel(0, 0).x == 0.0f);
+    CHECK(film.pixel(5, 5).x == 1.0f);
 }

@@ -1,20 +1,26 @@
 // brume render SCENE -o OUT [options]: everything is checked before the first sample, the
 // image is written in one piece at the end, and a summary line goes to stdout.
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
+#include <chrono>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
 #include "brume/cli/commands.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
+#include "brume/render/checkpoint.h"
 #include "brume/render/film.h"
+#include "brume/render/fnv1a.h"
 #include "brume/render/image_io.h"
 #include "brume/render/renderer.h"
 
@@ -46,9 +52,22 @@ const char* const kRenderUsage =
     "  --seed N             random seed (default 0); the same seed gives the same image\n"
     "                       for any thread count\n"
     "  --threads N          worker threads (default: all hardware threads)\n"
+    "  --checkpoint FILE    save the render's state to FILE every --checkpoint-every\n"
+    "                       seconds and when interrupted (written beside FILE and renamed\n"
+    "                       into place; removed once the image is complete); needs --spp\n"
+    "  --checkpoint-every SECONDS  seconds between checkpoints (default 60)\n"
+    "  --resume FILE        continue the render saved in checkpoint FILE: the result is\n"
+    "                       the same, bit for bit, as one that never stopped; scene file,\n"
+    "                       --res, --seed, --spp, --integrator, --connect, --max-depth,\n"
+    "                       --mis and --no-nee must be as before (use the same FILE for\n"
+    "                       --checkpoint to keep saving)\n"
     "  -h, --help           this text\n"
     "\n"
-    "Ctrl-C stops after the current pass and writes the image so far (exit code 130).\n";
+    "SIGINT (Ctrl-C) and SIGTERM abandon the pass in flight, write the image of the passes\n"
+    "completed (and the checkpoint, with --checkpoint) and exit with 130 (SIGINT) or 143\n"
+    "(SIGTERM); if no pass was completed nothing is written. A second signal kills at once.\n"
+    "The summary line gives the size, spp, seconds, samples/s, rays/s, non-finite samples\n"
+    "dropped and the peak memory.\n";
 
 namespace {
 
@@ -67,6 +86,11 @@ struct RenderArgs {
     Resolution res;  // width 0: from the camera
     uint64_t seed = 0;
     int threads = 0;
+    std::string checkpoint;       // --checkpoint FILE
+    double checkpointEvery = 60;  // seconds
+    bool checkpointEveryGiven = false;
+    std::string resume;           // --resume FILE
+    int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
     bool help = false;
 };
 
@@ -114,6 +138,15 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
             a.seed = parseUnsigned64(name, args.value());
         } else if (name == "--threads") {
             a.threads = int(parseInteger(name, args.value(), 1, 1024));
+        } else if (name == "--checkpoint" || name == "--resume") {
+            std::string file = args.value();
+            if (file.empty()) throw UsageError(name + ": empty file name");
+            (name == "--checkpoint" ? a.checkpoint : a.resume) = file;
+        } else if (name == "--checkpoint-every") {
+            a.checkpointEvery = parsePositiveSeconds(name, args.value(), 1e7);
+            a.checkpointEveryGiven = true;
+        } else if (name == "--stop-after-passes") {  // for tests, deliberately not in the usage text
+            a.stopAfterPasses = int(parseInteger(name, args.value(), 0, 1 << 24));
         } else {
             args.unknown();
         }
@@ -126,10 +159,17 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
     if (!a.strategyDir.empty() && a.integrator != "bdpt") throw UsageError("--strategy-images needs --integrator bdpt");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
+    // Checkpoints are for a planned number of passes: a time budget has no fixed end to resume to.
+    if (a.checkpointEveryGiven && a.checkpoint.empty()) throw UsageError("--checkpoint-every needs --checkpoint FILE");
+    if (!a.checkpoint.empty() && a.seconds > 0) throw UsageError("--checkpoint needs --spp, not --time");
+    if (!a.resume.empty() && a.seconds > 0) throw UsageError("--resume needs --spp, not --time");
+    if (!a.checkpoint.empty() && a.checkpoint == a.output)
+        throw UsageError("--checkpoint and --output name the same file '" + a.output + "'");
     return a;
 }
 
 std::atomic<bool> gInterrupted{false};
+std::atomic<int> gSignal{0};  // the first signal caught
 
 // One render per strategy (s, t), same seed and spp, each keeping only that strategy's
 // weighted contribution: the images add up to the full render.
@@ -154,16 +194,80 @@ void writeStrategyImages(const Scene& scene, BdptOptions bdpt, RenderOptions opt
     std::printf("strategy images in %s\n", dir.c_str());
 }
 
-extern "C" void onInterrupt(int) { gInterrupted.store(true); }
+extern "C" void onSignal(int sig) {
+    int none = 0;
+    gSignal.compare_exchange_strong(none, sig);
+    gInterrupted.store(true);
+}
 
-// The first Ctrl-C asks the renderer to stop after the current pass; SA_RESETHAND makes a
-// second one kill the process as usual.
-void catchInterrupt() {
+// The first SIGINT or SIGTERM asks the renderer to stop (see kRenderUsage); SA_RESETHAND
+// makes a second one kill the process as usual. SA_RESTART keeps the file writes going.
+void catchSignals() {
     struct sigaction sa {};
-    sa.sa_handler = onInterrupt;
+    sa.sa_handler = onSignal;
     sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
+    sa.sa_flags = SA_RESETHAND | SA_RESTART;
     sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+// 128 + the signal number, as a shell reports a process killed by it: 130 and 143.
+int exitCodeFor(int sig) { return sig == SIGTERM ? 128 + SIGTERM : kExitInterrupted; }
+const char* signalName(int sig) { return sig == SIGTERM ? "SIGTERM" : "SIGINT"; }
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// ru_maxrss is in KiB on Linux.
+double peakMemoryMiB() {
+    struct rusage usage {};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;
+}
+
+const char* connectName(ConnectMode mode) {
+    switch (mode) {
+    case ConnectMode::Density: return "density";
+    case ConnectMode::EquiAngular: return "equiangular";
+    default: return "mis";
+    }
+}
+
+// Everything that changes the image's bits (not --threads): a checkpoint continues only
+// under the same settings.
+CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint64_t sceneHash) {
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(sceneHash));
+    return {{"the scene file's FNV-1a hash", hash},
+            {"--res", std::to_string(res.width) + "x" + std::to_string(res.height)},
+            {"--seed", std::to_string(a.seed)},
+            {"--spp", std::to_string(a.spp)},
+            {"--integrator", a.integrator},
+            {"--connect", connectName(a.connect)},
+            {"--max-depth", std::to_string(a.maxDepth)},
+            {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
+            {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
+}
+
+// Throws std::runtime_error (one line, exit code 1) unless `saved` continues this render.
+void checkResumable(const std::string& file, const Checkpoint& saved, const CheckpointSettings& now,
+                    Resolution res, int spp) {
+    std::string mismatch = checkpointMismatch(saved.settings, now);
+    if (!mismatch.empty()) {
+        if (mismatch.rfind("the scene file", 0) == 0) mismatch += " (it was made from " + saved.scenePath + ")";
+        throw std::runtime_error(file + ": cannot resume this render: " + mismatch);
+    }
+    if (saved.film.width() != res.width || saved.film.height() != res.height || saved.film.passes() > spp)
+        throw std::runtime_error(file + ": corrupt checkpoint (film does not match its settings)");
+}
+
+std::string absolutePath(const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::absolute(path, ec);
+    return ec ? path : p.lexically_normal().string();
 }
 
 }  // namespace
@@ -180,6 +284,10 @@ int runRender(const std::vector<std::string>& argv) {
         throw UsageError(e.what());
     }
     checkImageWritable(a.output);  // std::runtime_error: exit code 1
+
+    if (!a.checkpoint.empty()) checkCheckpointWritable(a.checkpoint);
+    std::optional<Checkpoint> resumed;
+    if (!a.resume.empty()) resumed = readCheckpoint(a.resume);  // a bad file fails before the scene loads
 
     SceneDescription desc = loadSceneDescription(a.scene);
     Resolution res = imageResolution(desc.camera, a.res);
@@ -198,6 +306,21 @@ int runRender(const std::vector<std::string>& argv) {
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);
     const Integrator& integrator = *integratorPtr;
 
+    // Checkpoint state: the settings, the film (possibly resumed) and the non-finite samples
+    // dropped by earlier runs.
+    const std::string scenePath = absolutePath(a.scene);
+    CheckpointSettings settings;
+    if (!a.checkpoint.empty() || resumed) settings = checkpointSettings(a, res, fnv1a64File(a.scene));
+    Film film(res.width, res.height);
+    uint64_t earlierNonFinite = 0;
+    if (resumed) {
+        checkResumable(a.resume, *resumed, settings, res, a.spp);
+        film = std::move(resumed->film);
+        earlierNonFinite = resumed->nonFinite;
+        resumed.reset();
+        std::fprintf(stderr, "brume: resuming %s at pass %d of %d\n", a.resume.c_str(), film.passes(), a.spp);
+    }
+
     RenderOptions options;
     options.width = res.width;
     options.height = res.height;
@@ -207,22 +330,67 @@ int runRender(const std::vector<std::string>& argv) {
     options.threads = a.threads;
     options.progress = ::isatty(2) != 0;
 
-    Film film(res.width, res.height);
-    catchInterrupt();
-    RenderStats stats = render(scene, integrator, options, film, &gInterrupted);
-    signal(SIGINT, SIG_DFL);
+    // Periodic checkpoints between passes; the state at a stop is saved below. A failed
+    // periodic save is a warning: the render goes on and the next save may succeed.
+    Clock::time_point lastSave = Clock::now();
+    RenderControl control;
+    control.cancel = &gInterrupted;
+    control.dropInFlight = true;
+    control.afterPass = [&](const Film& f, const RenderStats& s) {
+        if (s.passes == a.stopAfterPasses) ::raise(SIGTERM);
+        if (a.checkpoint.empty() || gInterrupted.load() || f.passes() >= a.spp) return;
+        if (secondsSince(lastSave) < a.checkpointEvery) return;
+        try {
+            writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + s.nonFinite);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "brume: warning: %s\n", e.what());
+        }
+        lastSave = Clock::now();
+    };
+    catchSignals();  // kept to the end: a signal while the files are written does not cut them short
+    if (a.stopAfterPasses == 0) ::raise(SIGTERM);
+    RenderStats stats;
+    if (a.seconds > 0 || film.passes() < a.spp) {
+        RenderOptions rest = options;
+        rest.spp = a.spp - film.passes();  // ignored with --time
+        stats = render(scene, integrator, rest, film, control);
+    }
+    const uint64_t nonFinite = earlierNonFinite + stats.nonFinite;
+    const int sig = gSignal.load();
 
+    if (film.passes() == 0) {
+        std::fprintf(stderr, "brume: stopped by %s before the first pass was complete; nothing written\n",
+                     signalName(sig));
+        return exitCodeFor(sig);
+    }
+    // The image is written even if the checkpoint cannot be, then the checkpoint's error is
+    // reported. A complete render needs no checkpoint any more.
+    std::exception_ptr checkpointError;
+    const bool complete = a.seconds > 0 || film.passes() >= a.spp;
+    if (!a.checkpoint.empty() && !complete) {
+        try {
+            writeCheckpoint(a.checkpoint, scenePath, settings, film, nonFinite);
+        } catch (...) {
+            checkpointError = std::current_exception();
+        }
+    }
     writeImage(a.output, res.width, res.height, film.rgb());
+    if (checkpointError) std::rethrow_exception(checkpointError);
+    if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
     if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
-    std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite\n", a.output.c_str(),
-                res.width, res.height, stats.passes, stats.seconds, double(stats.samples) / seconds,
-                double(stats.rays) / seconds, static_cast<unsigned long long>(stats.nonFinite));
+    std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite, peak %.0f MiB\n",
+                a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
+                double(stats.samples) / seconds, double(stats.rays) / seconds,
+                static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
     std::fflush(stdout);
     if (gInterrupted.load()) {
-        std::fprintf(stderr, "brume: interrupted after %d passes\n", stats.passes);
-        return kExitInterrupted;
+        std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));
+        std::string saved = complete || a.checkpoint.empty() ? "" : ", state in " + a.checkpoint;
+        std::fprintf(stderr, "brume: stopped by %s after %s passes (%d spp in %s%s)\n", signalName(sig),
+                     done.c_str(), film.passes(), a.output.c_str(), saved.c_str());
+        return exitCodeFor(sig);
     }
     return kExitOk;
 }

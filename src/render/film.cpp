@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace brume {
 
@@ -46,6 +47,16 @@ std::vector<float> Film::rgb() const {
         out[i] = float(s * inv);
     }
     return out;
+}
+
+void Film::restore(int passes, std::vector<double> sampleSums, std::vector<double> splatSums) {
+    if (passes < 0) throw std::invalid_argument("film: negative pass count " + std::to_string(passes));
+    if (sampleSums.size() != sum_.size() || (!splatSums.empty() && splatSums.size() != sum_.size()))
+        throw std::invalid_argument("film: restored state does not match the " + std::to_string(width_) + "x" +
+                                    std::to_string(height_) + " film");
+    passes_ = passes;
+    sum_ = std::move(sampleSums);
+    splat_ = std::move(splatSums);
 }
 
 void Film::clear() {

@@ -32,8 +32,9 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Per-worker counters on their own cache line.
-struct alignas(64) WorkerCounters {
+// Counters of one tile in the current pass; summed only when the pass completes, so a
+// dropped pass leaves no trace in the statistics either.
+struct TileCounters {
     uint64_t samples = 0;
     uint64_t nonFinite = 0;
     PathStats path;
@@ -72,19 +73,21 @@ private:
 class PassRunner {
 public:
     PassRunner(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
-               int threadCount)
+               int threadCount, const std::atomic<bool>* drop)
         : scene_(scene),
           integrator_(integrator),
           splatter_(dynamic_cast<const SplattingIntegrator*>(&integrator)),
           options_(options),
           film_(film),
+          drop_(drop),
           tilesX_((options.width + kTileSize - 1) / kTileSize),
           tilesY_((options.height + kTileSize - 1) / kTileSize),
-          counters_(threadCount) {
+          radiance_(size_t(options.width) * size_t(options.height)),
+          tileCounters_(size_t(tileCount())) {
         if (splatter_) tileSplats_.resize(size_t(tileCount()));
         threads_.reserve(threadCount);
         try {
-            for (int i = 0; i < threadCount; ++i) threads_.emplace_back([this, i] { workerLoop(i); });
+            for (int i = 0; i < threadCount; ++i) threads_.emplace_back([this] { workerLoop(); });
         } catch (...) {
             stop();
             throw;
@@ -110,16 +113,31 @@ public:
         std::unique_lock<std::mutex> lock(mutex_);
         return doneCv_.wait_for(lock, timeout, [this] { return running_ == 0; });
     }
-    // After a finished pass: merges splats in tile order, rethrows a worker's exception.
-    void finishPass(uint64_t* splatNonFinite) {
+    // After the workers stopped: rethrows a worker's exception; if every tile was rendered,
+    // adds the pass to the film (samples in pixel order, splats in tile order), adds its
+    // counters to `stats` and returns true; otherwise (dropped) returns false.
+    bool finishPass(RenderStats& stats) {
         if (error_) std::rethrow_exception(error_);
+        const bool complete = tilesDone() == tileCount();
+        if (complete) {
+            const int width = options_.width;
+            for (int y = 0; y < options_.height; ++y)
+                for (int x = 0; x < width; ++x) film_.add(x, y, radiance_[size_t(y) * size_t(width) + size_t(x)]);
+            for (const TileCounters& c : tileCounters_) {
+                stats.samples += c.samples;
+                stats.nonFinite += c.nonFinite;
+                stats.rays += c.path.rays;
+            }
+        }
         for (SplatList& list : tileSplats_) {
-            film_.mergeSplats(list);
-            *splatNonFinite += list.nonFinite();
+            if (complete) {
+                film_.mergeSplats(list);
+                stats.nonFinite += list.nonFinite();
+            }
             list.clear();
         }
+        return complete;
     }
-    const std::vector<WorkerCounters>& counters() const { return counters_; }
 
 private:
     void stop() {
@@ -132,7 +150,7 @@ private:
             if (t.joinable()) t.join();
     }
 
-    void workerLoop(int index) {
+    void workerLoop() {
         // Embree asks for these in every thread that traces rays.
         _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
         _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
@@ -148,7 +166,8 @@ private:
             }
             try {
                 for (int t = nextTile_.fetch_add(1); t < tileCount(); t = nextTile_.fetch_add(1)) {
-                    renderTile(t, pass, counters_[index]);
+                    if (drop_ && drop_->load(std::memory_order_relaxed)) break;
+                    renderTile(t, pass);
                     tilesDone_.fetch_add(1, std::memory_order_relaxed);
                 }
             } catch (...) {
@@ -161,21 +180,28 @@ private:
         }
     }
 
-    void renderTile(int tile, int pass, WorkerCounters& counters) {
+    void renderTile(int tile, int pass) {
         const int width = options_.width, height = options_.height;
         const int x0 = (tile % tilesX_) * kTileSize, y0 = (tile / tilesX_) * kTileSize;
         const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+        TileCounters& counters = tileCounters_[size_t(tile)];
+        counters = TileCounters();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
                 Sample2 jitter = sampler.next2D();
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
-                                                                     counters.path, tileSplats_[tile])
+                                                                     counters.path, tileSplats_[size_t(tile)])
                                        : integrator_.sample(scene_, fx, fy, width, height, sampler, counters.path);
                 ++counters.samples;
-                if (isFinite(L)) film_.add(x, y, L);
-                else ++counters.nonFinite;
+                // A dropped sample adds +0, which leaves every sum as it was (sums start at +0
+                // and so are never -0, the one value x + 0 changes).
+                if (!isFinite(L)) {
+                    ++counters.nonFinite;
+                    L = Spectrum(0.0f);
+                }
+                radiance_[size_t(y) * size_t(width) + size_t(x)] = L;
             }
     }
 
@@ -184,9 +210,11 @@ private:
     const SplattingIntegrator* splatter_;
     const RenderOptions& options_;
     Film& film_;
+    const std::atomic<bool>* drop_;       // non-null: abandon the pass once it is true
     const int tilesX_, tilesY_;
-    std::vector<WorkerCounters> counters_;
-    std::vector<SplatList> tileSplats_;  // one per tile, merged in tile order
+    std::vector<Spectrum> radiance_;      // the pass in flight, one sample per pixel
+    std::vector<TileCounters> tileCounters_;
+    std::vector<SplatList> tileSplats_;   // one per tile, merged in tile order
     std::vector<std::thread> threads_;
 
     std::mutex mutex_;
@@ -203,7 +231,7 @@ private:
 }  // namespace
 
 RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
-                   const std::atomic<bool>* cancel) {
+                   const RenderControl& control) {
     if (options.width != film.width() || options.height != film.height())
         throw std::invalid_argument("render size " + std::to_string(options.width) + "x" +
                                     std::to_string(options.height) + " does not match the film (" +
@@ -222,15 +250,16 @@ RenderStats render(const Scene& scene, const Integrator& integrator, const Rende
     RenderStats stats;
     const Clock::time_point start = Clock::now();
     ProgressBar progress(options.progress);
-    uint64_t splatNonFinite = 0;
+    auto cancelled = [&] { return control.cancel && control.cancel->load(); };
+    auto enough = [&] {
+        return options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget : stats.passes >= options.spp;
+    };
     {
-        PassRunner runner(scene, integrator, options, film, threadCount);
+        PassRunner runner(scene, integrator, options, film, threadCount,
+                          control.dropInFlight ? control.cancel : nullptr);
         for (;;) {
-            if (stats.passes > 0) {
-                if (options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget : stats.passes >= options.spp)
-                    break;
-                if (cancel && cancel->load()) break;
-            }
+            if (stats.passes > 0 && enough()) break;
+            if (cancelled() && (stats.passes > 0 || control.dropInFlight)) break;
             runner.startPass(film.passes());
             while (!runner.waitPass(std::chrono::milliseconds(200))) {
                 double t = secondsSince(start);
@@ -239,23 +268,28 @@ RenderStats render(const Scene& scene, const Integrator& integrator, const Rende
                                       : (stats.passes + double(runner.tilesDone()) / runner.tileCount()) / options.spp;
                 progress.show(fraction, stats.passes, options, t);
             }
-            runner.finishPass(&splatNonFinite);
+            if (!runner.finishPass(stats)) break;  // dropped
             film.completePass();
             ++stats.passes;
             double t = secondsSince(start);
             progress.show(options.timeBudget > 0 ? t / options.timeBudget : double(stats.passes) / options.spp,
                           stats.passes, options, t);
-        }
-        for (const WorkerCounters& c : runner.counters()) {
-            stats.samples += c.samples;
-            stats.nonFinite += c.nonFinite;
-            stats.rays += c.path.rays;
+            if (control.afterPass) {
+                stats.seconds = t;
+                control.afterPass(film, stats);
+            }
         }
     }
-    stats.nonFinite += splatNonFinite;
     stats.seconds = secondsSince(start);
     progress.finish();
     return stats;
+}
+
+RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+                   const std::atomic<bool>* cancel) {
+    RenderControl control;
+    control.cancel = cancel;
+    return render(scene, integrator, options, film, control);
 }
 
 }  // namespace brume

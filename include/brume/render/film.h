@@ -80,6 +80,14 @@ public:
     // Back to black, zero passes.
     void clear();
 
+    // The raw state, for checkpoints: 3 sums per pixel of samples and of splats (the latter
+    // empty until the first splat). restore() puts such a state back exactly (it throws
+    // std::invalid_argument for negative passes or sizes that are not 3 per pixel; splat
+    // sums may be empty).
+    const std::vector<double>& sampleSums() const { return sum_; }
+    const std::vector<double>& splatSums() const { return splat_; }
+    void restore(int passes, std::vector<double> sampleSums, std::vector<double> splatSums);
+
 private:
     int width_, height_;
     int passes_ = 0;

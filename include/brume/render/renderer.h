@@ -4,10 +4,15 @@
 // Sampler(seed, y·width + x, pass): the jitter inside the pixel first (box filter), then
 // whatever the integrator draws. No sample depends on which thread takes it, each pixel is
 // summed in pass order and splats are merged in tile order, so the same seed gives the same
-// image for any thread count.
+// image for any thread count — and a film restored from a checkpoint after pass k continues
+// to the same bits as one that never stopped.
+//
+// A pass is rendered into a buffer of its own and added to the film only once all its tiles
+// are done, so a pass can be abandoned half-way (RenderControl::dropInFlight) without a trace.
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <functional>
 
 #include "brume/integrators/integrator.h"
 #include "brume/render/film.h"
@@ -27,9 +32,9 @@ struct RenderOptions {
 
 struct RenderStats {
     double seconds = 0;      // wall-clock time of the passes
-    int passes = 0;          // passes rendered by this call (= spp with a time budget)
-    uint64_t samples = 0;    // pixel samples taken, non-finite ones included
-    uint64_t rays = 0;       // as counted by the integrator (PathStats::rays)
+    int passes = 0;          // passes completed by this call (= spp unless stopped early)
+    uint64_t samples = 0;    // pixel samples of those passes, non-finite ones included
+    uint64_t rays = 0;       // as counted by the integrator (PathStats::rays), same passes
     uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
 };
 
@@ -46,12 +51,27 @@ public:
                     PathStats& stats) const override;
 };
 
+// What render() watches and calls besides its options; every member is optional.
+struct RenderControl {
+    // Checked between passes: once it is true no new pass starts. The first pass always runs
+    // unless dropInFlight is set.
+    const std::atomic<bool>* cancel = nullptr;
+    // Also checked between tiles: once `cancel` is true the pass in flight is abandoned and
+    // the film stays as it was after the last completed pass (possibly none).
+    bool dropInFlight = false;
+    // Called on the calling thread after each completed pass, with the film holding it and
+    // the statistics so far (seconds included).
+    std::function<void(const Film&, const RenderStats&)> afterPass;
+};
+
 // Adds passes to `film` (pass indices continue from film.passes(), so calling render() again
-// on the same film refines it). Samples that are not finite are dropped (they count as black)
-// and counted. `cancel`, if given, is checked between passes: once it is true no new pass
-// starts (the first pass always runs). Throws std::invalid_argument for bad options (film
-// size mismatch, spp < 1 without a time budget, negative threads) and rethrows anything an
-// integrator throws.
+// on the same film refines it). Samples and splats that are not finite are dropped (they
+// count as black) and counted, for the completed passes only. Throws std::invalid_argument
+// for bad options (film size mismatch, spp < 1 without a time budget, negative threads) and
+// rethrows anything an integrator or afterPass throws.
+RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+                   const RenderControl& control);
+// The same with only a cancel flag (the pass in flight is finished).
 RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
                    const std::atomic<bool>* cancel = nullptr);
 

@@ -1,0 +1,59 @@
+// Render checkpoints: the film of the passes completed so far, bit for bit, with the settings
+// that made it, so that an interrupted render continues to exactly the image it would have
+// given without stopping (see renderer.h: passes are deterministic and summed in order).
+//
+// File layout (little-endian throughout):
+//   "BRUMECKP"                 8-byte magic
+//   u32 version                kCheckpointVersion
+//   str scenePath              informational (named in messages)
+//   u32 n, n × (str, str)      settings as (name, value), compared on resume
+//   i32 width, i32 height      film size
+//   i32 passes                 completed passes
+//   u64 nonFinite              samples and splats dropped so far
+//   u8 hasSplats
+//   f64 × 3·w·h                sample sums, row-major, top row first
+//   f64 × 3·w·h                splat sums, only if hasSplats
+//   u64 checksum               FNV-1a 64 of every byte before it
+// where str is u32 length + bytes (at most 4096). Doubles are stored as their IEEE bits.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "brume/render/film.h"
+
+namespace brume {
+
+constexpr uint32_t kCheckpointVersion = 1;
+
+// (name, value): what must match for a checkpoint to be continued, e.g. ("--spp", "64").
+using CheckpointSettings = std::vector<std::pair<std::string, std::string>>;
+
+struct Checkpoint {
+    std::string scenePath;
+    CheckpointSettings settings;
+    uint64_t nonFinite = 0;
+    Film film;
+};
+
+// Writes to "<path>.tmp-<pid>", flushes it to disk and renames it over `path`, so `path`
+// always holds a whole checkpoint (the old one until the new one is complete). Throws
+// std::runtime_error ("<path>: <problem>") on failure, leaving no temporary file.
+void writeCheckpoint(const std::string& path, const std::string& scenePath, const CheckpointSettings& settings,
+                     const Film& film, uint64_t nonFinite);
+
+// Reads a checkpoint. A missing, truncated, corrupt or foreign file, or another version, is a
+// std::runtime_error ("<path>: <problem>"); the file size is checked against its header
+// before the film is allocated.
+Checkpoint readCheckpoint(const std::string& path);
+
+// Empty if `now` may continue a checkpoint made with `saved`, else one phrase naming the
+// first difference, e.g. "--spp is 16 here but 8 in the checkpoint".
+std::string checkpointMismatch(const CheckpointSettings& saved, const CheckpointSettings& now);
+
+// Throws std::runtime_error unless a checkpoint can be written at `path` (by creating and
+// removing its temporary file; `path` must not be a directory).
+void checkCheckpointWritable(const std::string& path);
+
+}  // namespace brume

@@ -1,0 +1,300 @@
+// brume render stopped and continued, run as a user would: an interrupted render resumed from
+// its checkpoint gives the same bytes as one that ran straight through (pt and bdpt, whose
+// light-tracing splats live in a film of their own); SIGINT and SIGTERM give exit codes 130
+// and 143 and an image of whole passes; a checkpoint that is damaged or made with other
+// settings is a one-line error.
+#include <catch2/catch.hpp>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "brume/render/checkpoint.h"
+#include "brume/render/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        static std::atomic<int> counter{0};
+        path = fs::temp_directory_path() /
+               ("brume-ckpt-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    std::string operator/(const std::string& name) const { return (path / name).string(); }
+    std::vector<std::string> files() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+};
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeFile(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+using Args = std::vector<std::string>;
+
+struct Result {
+    int code = -1;  // the exit status, or minus the signal that killed it
+    std::string out, err;
+};
+
+// `brume render ARGS` as a child process, stdout and stderr into files of its own directory.
+class Child {
+public:
+    explicit Child(const Args& args) {
+        std::vector<std::string> argv = {BRUME_EXE, "render"};
+        argv.insert(argv.end(), args.begin(), args.end());
+        pid_ = ::fork();
+        REQUIRE(pid_ >= 0);
+        if (pid_ == 0) {
+            std::freopen("/dev/null", "r", stdin);
+            std::freopen((capture_ / "out").c_str(), "w", stdout);
+            std::freopen((capture_ / "err").c_str(), "w", stderr);
+            std::vector<char*> cargv;
+            for (std::string& a : argv) cargv.push_back(a.data());
+            cargv.push_back(nullptr);
+            ::execv(cargv[0], cargv.data());
+            std::_Exit(127);
+        }
+    }
+    void signal(int sig) { ::kill(pid_, sig); }
+    Result wait() {
+        int status = 0;
+        ::waitpid(pid_, &status, 0);
+        Result r;
+        r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+        r.out = readFile(capture_ / "out");
+        r.err = readFile(capture_ / "err");
+        return r;
+    }
+
+private:
+    TempDir capture_;
+    pid_t pid_ = -1;
+};
+
+Result run(const Args& args) { return Child(args).wait(); }
+
+std::string data(const std::string& name) { return std::string(BRUME_TEST_DATA) + "/" + name; }
+
+// The spp of the summary line "OUT: WxH, N spp, ...".
+int summarySpp(const std::string& out) {
+    std::smatch m;
+    REQUIRE(std::regex_search(out, m, std::regex(R"(: \d+x\d+, (\d+) spp,)")));
+    return std::stoi(m[1]);
+}
+
+void checkOneLineError(const Result& r, const std::string& mention) {
+    INFO("stderr: " << r.err);
+    CHECK(r.code == 1);
+    CHECK(r.err.rfind("brume: error: ", 0) == 0);
+    CHECK(r.err.find(mention) != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+}
+
+const Args kSmall = {"--res", "40x30", "--spp", "6"};
+
+Args operator+(Args a, const Args& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+}  // namespace
+
+TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as straight through", "[cli][checkpoint]") {
+    for (const char* integrator : {"pt", "bdpt"}) {
+        INFO("--integrator " << integrator);
+        TempDir dir;
+        const Args common = Args{data("bdpt_quad_fogbox.gltf"), "--integrator", integrator} + kSmall;
+        const std::string ckpt = dir / "c.ckpt";
+
+        Result r = run(common + Args{"-o", dir / "straight.pfm", "--threads", "2"});
+        REQUIRE(r.code == 0);
+        REQUIRE(run(common + Args{"-o", dir / "straight.exr"}).code == 0);
+
+        // Stopped after 2 passes: exit code of SIGTERM, an image of 2 whole passes, a checkpoint.
+        r = run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", "2"});
+        INFO("stderr: " << r.err);
+        CHECK(r.code == 143);
+        CHECK(summarySpp(r.out) == 2);
+        CHECK(r.err.find("after 2 of 6 passes") != std::string::npos);
+        const Args two = {data("bdpt_quad_fogbox.gltf"), "--integrator", integrator, "--res", "40x30", "--spp", "2"};
+        REQUIRE(run(two + Args{"-o", dir / "two.pfm"}).code == 0);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "two.pfm"));
+        CHECK(brume::readCheckpoint(ckpt).film.passes() == 2);
+
+        // Resumed with another thread count, stopped again after one more pass.
+        r = run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--resume", ckpt, "--threads", "1",
+                              "--stop-after-passes", "1"});
+        CHECK(r.code == 143);
+        CHECK(summarySpp(r.out) == 3);
+        CHECK(r.err.find("resuming") != std::string::npos);
+
+        // Resumed to the end: the same bytes, the checkpoint is gone.
+        r = run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--resume", ckpt});
+        CHECK(r.code == 0);
+        CHECK(summarySpp(r.out) == 6);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
+        CHECK_FALSE(fs::exists(ckpt));
+
+        // EXR files carry a time stamp, so their pixels are compared.
+        REQUIRE(run(common + Args{"-o", dir / "b.exr", "--checkpoint", ckpt, "--stop-after-passes", "4"}).code == 143);
+        REQUIRE(run(common + Args{"-o", dir / "b.exr", "--resume", ckpt}).code == 0);
+        int w, h;
+        CHECK(brume::readImage(dir / "b.exr", &w, &h) == brume::readImage(dir / "straight.exr", &w, &h));
+        CHECK(brume::readImage(dir / "b.exr", &w, &h) == brume::readImage(dir / "straight.pfm", &w, &h));
+        CHECK(fs::exists(ckpt));  // --resume alone leaves it (nothing named it --checkpoint)
+    }
+}
+
+TEST_CASE("cli checkpoint: SIGINT and SIGTERM write whole passes and exit with 130 and 143", "[cli][checkpoint]") {
+    for (int sig : {SIGINT, SIGTERM}) {
+        INFO("signal " << sig);
+        TempDir dir;
+        const std::string ckpt = dir / "c.ckpt";
+        const Args scene = {data("single_near.gltf"), "--res", "32x24", "--seed", "9"};
+        Child child(scene +
+                    Args{"-o", dir / "i.pfm", "--spp", "1000000", "--checkpoint", ckpt, "--checkpoint-every", "0.001"});
+        // Signalled once a periodic checkpoint exists (so at least one pass is done).
+        auto start = std::chrono::steady_clock::now();
+        while (!fs::exists(ckpt) && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        child.signal(sig);
+        Result r = child.wait();
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code == 128 + sig);
+        CHECK(r.err.find(sig == SIGINT ? "SIGINT" : "SIGTERM") != std::string::npos);
+        const int spp = summarySpp(r.out);
+        CHECK(spp >= 1);
+        CHECK(r.err.find("after " + std::to_string(spp) + " of 1000000 passes") != std::string::npos);
+
+        // The image holds exactly `spp` whole passes, and so does the checkpoint.
+        REQUIRE(run(scene + Args{"-o", dir / "ref.pfm", "--spp", std::to_string(spp)}).code == 0);
+        CHECK(readFile(dir / "i.pfm") == readFile(dir / "ref.pfm"));
+        brume::Checkpoint c = brume::readCheckpoint(ckpt);
+        CHECK(c.film.passes() == spp);
+        int w, h;
+        CHECK(c.film.rgb() == brume::readImage(dir / "i.pfm", &w, &h));
+        CHECK(dir.files() == Args{"c.ckpt", "i.pfm", "ref.pfm"});  // no temporary files
+    }
+}
+
+TEST_CASE("cli checkpoint: stopped before the first pass, nothing is written", "[cli][checkpoint]") {
+    TempDir dir;
+    Result r = run({data("single_near.gltf"), "-o", dir / "i.pfm", "--checkpoint", dir / "c.ckpt",
+                    "--stop-after-passes", "0"});
+    CHECK(r.code == 143);
+    CHECK(r.err.find("nothing written") != std::string::npos);
+    CHECK(r.out.empty());
+    CHECK(dir.files().empty());
+}
+
+TEST_CASE("cli checkpoint: damaged or mismatched checkpoints are one-line errors", "[cli][checkpoint]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    const std::string ckpt = dir / "c.ckpt";
+    const Args base = {"--res", "16x12", "--spp", "4", "--seed", "3"};
+    REQUIRE(run(Args{scene, "-o", dir / "a.pfm", "--checkpoint", ckpt, "--stop-after-passes", "1"} + base).code == 143);
+    const std::string good = readFile(ckpt);
+    const std::string bad = dir / "bad.ckpt";
+    auto resume = [&](const std::string& file, const Args& extra) {
+        return run(Args{scene, "-o", dir / "out.pfm", "--resume", file} + extra);
+    };
+
+    writeFile(bad, good.substr(0, good.size() / 2));
+    checkOneLineError(resume(bad, base), "truncated");
+    std::string flipped = good;
+    flipped[flipped.size() - 100] ^= 0x04;
+    writeFile(bad, flipped);
+    checkOneLineError(resume(bad, base), "checksum");
+    writeFile(bad, "");
+    checkOneLineError(resume(bad, base), "not a brume checkpoint");
+    checkOneLineError(resume(scene, base), "not a brume checkpoint");
+    checkOneLineError(resume(dir / "missing.ckpt", base), "missing.ckpt");
+
+    checkOneLineError(resume(ckpt, {"--res", "16x12", "--spp", "8", "--seed", "3"}), "--spp is 8 here but 4");
+    checkOneLineError(resume(ckpt, {"--res", "16x12", "--spp", "4", "--seed", "4"}), "--seed");
+    checkOneLineError(resume(ckpt, {"--res", "16x10", "--spp", "4", "--seed", "3"}), "--res");
+    checkOneLineError(resume(ckpt, base + Args{"--integrator", "bdpt"}), "--integrator");
+    checkOneLineError(resume(ckpt, base + Args{"--connect", "density"}), "--connect");
+    checkOneLineError(resume(ckpt, base + Args{"--max-depth", "3"}), "--max-depth");
+    checkOneLineError(resume(ckpt, base + Args{"--mis", "balance"}), "--mis");
+    checkOneLineError(resume(ckpt, base + Args{"--no-nee"}), "--no-nee");
+    // Another scene file, and the same scene edited (one more space) at the same place.
+    const Args other = Args{data("single_side.gltf"), "-o", dir / "out.pfm", "--resume", ckpt} + base;
+    checkOneLineError(run(other), "scene file");
+    fs::copy_file(data("single_near.gltf"), dir / "scene.gltf");
+    const Args edited = Args{dir / "scene.gltf"} + base;
+    REQUIRE(run(edited + Args{"-o", dir / "m.pfm", "--checkpoint", dir / "m.ckpt", "--stop-after-passes", "1"}).code ==
+            143);
+    writeFile(dir / "scene.gltf", readFile(dir / "scene.gltf") + " ");
+    checkOneLineError(run(edited + Args{"-o", dir / "out.pfm", "--resume", dir / "m.ckpt"}), "scene file");
+    CHECK_FALSE(fs::exists(dir / "out.pfm"));
+
+    // The same contents elsewhere is the same scene.
+    Result r = run(Args{scene, "-o", dir / "out.pfm", "--resume", dir / "m.ckpt"} + base);
+    CHECK(r.code == 0);
+    CHECK(summarySpp(r.out) == 4);
+}
+
+TEST_CASE("cli checkpoint: option errors", "[cli][checkpoint]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    const std::string out = dir / "o.pfm";
+    struct Case {
+        Args args;
+        int code;
+        std::string mention;
+    } cases[] = {
+        {{scene, "-o", out, "--checkpoint-every", "5"}, 2, "--checkpoint-every needs --checkpoint"},
+        {{scene, "-o", out, "--checkpoint", dir / "c", "--checkpoint-every", "0"}, 2, "--checkpoint-every"},
+        {{scene, "-o", out, "--checkpoint", dir / "c", "--time", "1"}, 2, "--checkpoint needs --spp"},
+        {{scene, "-o", out, "--resume", dir / "c", "--time", "1"}, 2, "--resume needs --spp"},
+        {{scene, "-o", out, "--checkpoint", out}, 2, "same file"},
+        {{scene, "-o", out, "--checkpoint", ""}, 2, "--checkpoint"},
+        {{scene, "-o", out, "--checkpoint", "/nonexistent-dir/c.ckpt"}, 1, "/nonexistent-dir/c.ckpt"},
+        {{scene, "-o", out, "--checkpoint", dir.path.string()}, 1, "is a directory"},
+    };
+    for (const Case& c : cases) {
+        std::string line;
+        for (const std::string& a : c.args) line += " " + a;
+        INFO("brume render" << line);
+        Result r = run(c.args);
+        INFO("stderr: " << r.err);
+        CHECK(r.code == c.code);
+        CHECK(r.err.find(c.mention) != std::string::npos);
+        CHECK(dir.files().empty());
+    }
+    Result help = run({"--help"});
+    CHECK(help.out.find("--checkpoint-every") != std::string::npos);
+    CHECK(help.out.find("143") != std::string::npos);
+}

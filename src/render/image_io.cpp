@@ -117,6 +117,9 @@ void writeWithOiio(const std::string& file, ImageFormat format, int width, int h
     OIIO::TypeDesc type = format == ImageFormat::Png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
     OIIO::ImageSpec spec(width, height, 3, type);
     spec.attribute("oiio:ColorSpace", format == ImageFormat::Png ? "sRGB" : "linear");
+    // An empty capture date: OpenImageIO would stamp the time of writing into EXR headers, and
+    // the same render (straight, or interrupted and resumed) must give the same bytes.
+    spec.attribute("DateTime", "");
     bool ok = out->open(file, spec);
     if (ok) {
         if (format == ImageFormat::Png) {

@@ -79,13 +79,23 @@ double parsePositiveSeconds(const std::string& what, const std::string& text, do
     return v;
 }
 
+namespace {
+
+// Why images are capped: refused before the film is allocated.
+const char* const kSizeReason = " (the film keeps 24 to 48 bytes a pixel, 3 to 6 GiB at 2^27 pixels)";
+
+std::string tooLarge(const std::string& what, const std::string& text) {
+    return what + ": " + text + ": sides must be at most " + std::to_string(kMaxImageSide) + kSizeReason;
+}
+
+}  // namespace
+
 void checkResolution(const std::string& what, Resolution r) {
     std::string text = std::to_string(r.width) + "x" + std::to_string(r.height);
     if (r.width < 1 || r.height < 1) throw UsageError(what + ": " + text + ": sides must be at least 1");
-    if (r.width > kMaxImageSide || r.height > kMaxImageSide)
-        throw UsageError(what + ": " + text + ": sides must be at most " + std::to_string(kMaxImageSide));
+    if (r.width > kMaxImageSide || r.height > kMaxImageSide) throw UsageError(tooLarge(what, text));
     if (int64_t(r.width) * r.height > kMaxImagePixels)
-        throw UsageError(what + ": " + text + ": more than 2^27 pixels");
+        throw UsageError(what + ": " + text + ": more than 2^27 pixels" + kSizeReason);
 }
 
 Resolution parseResolution(const std::string& what, const std::string& text) {
@@ -98,8 +108,7 @@ Resolution parseResolution(const std::string& what, const std::string& text) {
             // Long digit strings are absurd sizes, not malformed ones.
             bool allDigits = !part.empty();
             for (char c : part) allDigits = allDigits && std::isdigit(static_cast<unsigned char>(c));
-            if (allDigits) throw UsageError(what + ": " + text + ": sides must be at most " +
-                                            std::to_string(kMaxImageSide));
+            if (allDigits) throw UsageError(tooLarge(what, text));
             throw UsageError(what + ": '" + text + "' is not of the form WIDTHxHEIGHT");
         }
         return int(std::strtol(part.c_str(), nullptr, 10));

@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""Writes the corpus of bad scene files in tests/data/bad/ (for tests/test_cli_bad_inputs.cpp).
+
+Run: /usr/bin/python3 tests/data/bad/make_bad.py
+Standard library only (it uses scenes/gltfgen.py); deterministic output. Each file starts from
+the same small valid scene (a camera looking at a grey quad in fog, lit by a point light) and
+breaks exactly one thing, named by the file and described by the function that writes it. The
+test runs brume on each and expects a one-line error naming the file and the problem; a file
+added here needs a case there (the test checks that every file in this directory has one).
+"""
+
+import json
+import math
+import os
+import struct
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "scenes"))
+
+sys.dont_write_bytecode = True  # no __pycache__ next to the scenes
+import gltfgen as g  # noqa: E402
+
+GENERATOR = "brume tests/data/bad/make_bad.py"
+
+
+def base(camera=True, texture_uv=False):
+    """The valid scene every bad file is made from: accessor 0 holds the quad's 4 positions,
+    the last accessor its 6 indices; bufferView 0 the positions."""
+    b = g.GltfBuilder(GENERATOR)
+    if camera:
+        b.add_camera("camera", yfov=0.8, aspect_ratio=1.0, translation=(0.0, 0.0, 2.0))
+    b.set_ambient(b.add_medium("fog", 0.1, 0.01, 0.3))
+    grey = b.add_material("grey", base_color=(0.5, 0.5, 0.5))
+    pos, nrm, uvs, idx = g.quad((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+    mesh = b.add_mesh("quad", pos, idx, uvs=uvs if texture_uv else None, material=grey)
+    b.add_node("quad", mesh=mesh)
+    b.add_light("lamp", "point", (1.0, 1.0, 1.0), 5.0, translation=(0.0, 1.0, 1.0))
+    return b
+
+
+def write_json(name, doc):
+    text = json.dumps(doc, sort_keys=True, indent=2, allow_nan=False) + "\n"
+    with open(os.path.join(HERE, name), "w", encoding="utf-8", newline="\n") as f:
+        f.write(text)
+    return text
+
+
+def write_bytes(name, data):
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
+def glb(doc, binary):
+    """A binary glTF container: a JSON chunk and a BIN chunk, each padded to 4 bytes."""
+    text = json.dumps(doc, sort_keys=True, separators=(",", ":")).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    binary = bytes(binary) + b"\0" * (-len(binary) % 4)
+    body = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body
+
+
+def valid_base():
+    """The base scene itself, valid: the test renders it to show that each bad file fails
+    for its one breakage alone."""
+    write_json("valid_base.gltf", base().document())
+
+
+def truncated_glb():
+    """The base scene as a .glb (JSON and BIN chunks), cut off halfway."""
+    b = base()
+    doc = b.document()
+    doc["buffers"] = [{"byteLength": len(b.buffer)}]  # the GLB's own BIN chunk
+    whole = glb(doc, b.buffer)
+    write_bytes("truncated.glb", whole[:len(whole) // 2])
+
+
+def broken_json():
+    """The base scene's JSON text, cut off halfway."""
+    text = base().to_json()
+    write_bytes("broken_json.gltf", text[:len(text) // 2].encode("utf-8"))
+
+
+def buffer_view_out_of_range():
+    """bufferViews[0] (48 bytes of positions) starts 8 bytes before the buffer's end."""
+    doc = base().document()
+    doc["bufferViews"][0]["byteOffset"] = doc["buffers"][0]["byteLength"] - 8
+    write_json("buffer_view_out_of_range.gltf", doc)
+
+
+def index_out_of_range():
+    """Index 4 of the quad's 6 is 7; it has 4 vertices."""
+    b = base()
+    view = b.buffer_views[b.accessors[-1]["bufferView"]]
+    struct.pack_into("<H", b.buffer, view["byteOffset"] + 2 * 4, 7)  # index 4 of 6: vertex 7 of 4
+    write_json("index_out_of_range.gltf", b.document())
+
+
+def nan_position():
+    """Vertex 1's y is NaN (in the buffer; min/max stay finite)."""
+    b = base()
+    view = b.buffer_views[b.accessors[0]["bufferView"]]
+    struct.pack_into("<f", b.buffer, view["byteOffset"] + 4 * 4, math.nan)  # vertex 1, y
+    write_json("nan_position.gltf", b.document())
+
+
+def missing_texture():
+    """The quad's base colour texture is no_such_texture.png, which does not exist."""
+    b = base(texture_uv=True)
+    doc = b.document()
+    doc["images"] = [{"uri": "no_such_texture.png"}]
+    doc["textures"] = [{"source": 0}]
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    write_json("missing_texture.gltf", doc)
+
+
+def orthographic_camera():
+    """The only camera is orthographic."""
+    doc = base().document()
+    doc["cameras"][0] = {"type": "orthographic",
+                         "orthographic": {"xmag": 1.0, "ymag": 1.0, "znear": 0.01, "zfar": 100.0}}
+    write_json("orthographic_camera.gltf", doc)
+
+
+def no_camera():
+    """No camera at all."""
+    write_json("no_camera.gltf", base(camera=False).document())
+
+
+def medium_out_of_range():
+    """The quad's mesh encloses BRUME_media medium 3; there is only medium 0."""
+    doc = base().document()
+    doc["meshes"][0]["extensions"] = {"BRUME_media": {"interior": 3}}  # only medium 0 exists
+    write_json("medium_out_of_range.gltf", doc)
+
+
+def cyclic_nodes():
+    """The quad's node is its own grandchild: nodes 1 -> 3 -> 1."""
+    doc = base().document()
+    doc["nodes"].append({"name": "loop", "children": [1]})
+    doc["nodes"][1]["children"] = [len(doc["nodes"]) - 1]
+    write_json("cyclic_nodes.gltf", doc)
+
+
+def main():
+    valid_base()
+    truncated_glb()
+    broken_json()
+    buffer_view_out_of_range()
+    index_out_of_range()
+    nan_position()
+    missing_texture()
+    orthographic_camera()
+    no_camera()
+    medium_out_of_range()
+    cyclic_nodes()
+
+
+if __name__ == "__main__":
+    main()

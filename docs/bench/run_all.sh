@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The figures of docs/results.md: `brume bench` with all six methods (budgets 1, 2, 4 s at
-# 160x120) on every bundled scene and on the five scenes of the BDPT tests, then each chart
+# The figures of docs/results.md: `brume bench` with all six methods and bdpt:mis-exact
+# (budgets 1, 2, 4 s at 160x120) on every bundled scene and on the five scenes of the BDPT
+# tests, then each chart
 # (PNG, SVG) and results table copied to docs/bench/results/. About 30 minutes on 2 cores;
 # run it on an otherwise idle machine (bench warns when its threads were starved).
 #   bash docs/bench/run_all.sh [WORKDIR]      (default build/bench; references are cached there)
@@ -18,7 +19,8 @@ for scene in "${scenes[@]}"; do
   # Where light reaches the fog through glass only light tracing finds it: a bdpt reference.
   reference=pt:mis
   case "$name" in caustic | bdpt_glass_sphere) reference=bdpt:density ;; esac
-  build/brume bench "$scene" --out "$work/$name" --reference-method "$reference" --budgets 1,2,4
+  build/brume bench "$scene" --out "$work/$name" --reference-method "$reference" --budgets 1,2,4 \
+    --methods pt:density,pt:equiangular,pt:mis,bdpt:density,bdpt:equiangular,bdpt:mis,bdpt:mis-exact
   cp "$work/$name/chart.png" "$dest/$name.png"
   cp "$work/$name/chart.svg" "$dest/$name.svg"
   cp "$work/$name/results.csv" "$dest/$name.csv"

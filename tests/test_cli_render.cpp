@@ -4,6 +4,9 @@
 // scenes. Also image_io directly.
 #include <catch2/catch.hpp>
 
+#include <chrono>
+#include <thread>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -240,6 +243,15 @@ TEST_CASE("cli: 1 and 2 threads give byte-identical images; seeds differ", "[cli
     CHECK(t1.size() == 14 + 16 * 12 * 12);  // "PF\n16 12\n-1.0\n" + float RGB
     CHECK(t1 == t2);
     CHECK(t1 != s6);
+}
+
+TEST_CASE("cli: the same render gives the same EXR bytes a second later (no time stamp)", "[cli]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "a.exr") + kTiny).code == 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // header dates have 1 s steps
+    REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "b.exr") + kTiny).code == 0);
+    CHECK(readFile(dir / "a.exr") == readFile(dir / "b.exr"));
 }
 
 TEST_CASE("cli: an empty scene renders black, default size from the aspect ratio", "[cli]") {

@@ -19,7 +19,8 @@ const char* const kUsage =
     "  bench SCENE --out DIR [options] equal-time error and efficiency of light-transport methods\n"
     "\n"
     "'brume COMMAND --help' describes a command's options.\n"
-    "exit codes: 0 success, 1 scene/image/run-time error, 2 bad command line.\n";
+    "exit codes: 0 success, 1 scene/image/run-time error, 2 bad command line,\n"
+    "130 stopped by SIGINT (Ctrl-C), 143 stopped by SIGTERM.\n";
 
 // Errors are one line: the first line of the message.
 void reportError(const std::string& message) {

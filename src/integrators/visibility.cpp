@@ -21,7 +21,12 @@ Spectrum transmittanceAlong(const Scene& scene, Vec3 o, Vec3 d, float dist, Medi
         Spectrum T = m ? transmittance(m->sigmaT(), dist) : Spectrum(1.0f);
         if (isBlack(T)) return T;
         ++stats.rays;
-        return scene.occluded(Ray{o, d, dist}, target.sphereLight) ? Spectrum(0.0f) : T;
+        if (target.mesh < 0) return scene.occluded(Ray{o, d, dist}, target.sphereLight) ? Spectrum(0.0f) : T;
+        // Towards an emissive triangle, a hit on that triangle is arrival, not a blocker:
+        // shortening the distance by an epsilon does not keep a grazing or degenerate
+        // triangle's own plane out of reach, so ask for the closest hit and compare.
+        SurfaceHit hit = scene.intersect(Ray{o, d, dist});
+        return hit.valid() && !target.is(hit) ? Spectrum(0.0f) : T;
     }
     Spectrum T(1.0f);
     float remaining = dist;

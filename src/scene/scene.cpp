@@ -95,6 +95,14 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         lightMedia_.resize(2 * lights_.size());
         for (size_t i = 0; i < lights_.size(); ++i) {
             const Light& l = lights_[i];
+            if (l.kind == LightKind::Directional) {
+                // Its rays start on a disc outside the scene's bounds, where no bounded medium
+                // reaches, whatever the position of the light's node.
+                MediumStack outside;
+                outside.ambient = desc_.ambientMedium;
+                lightMedia_[i] = lightMedia_[lights_.size() + i] = outside;
+                continue;
+            }
             if (l.kind != LightKind::Triangle) {
                 lightMedia_[i] = lightMedia_[lights_.size() + i] = mediaAt(l.position);
                 continue;

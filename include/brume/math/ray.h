@@ -14,10 +14,12 @@ struct Ray {
     Vec3 at(float t) const { return o + d * t; }
 };
 
-// Offset for spawning rays off a surface, relative to the point's magnitude so that
-// scenes far from the origin (1e5 m) still escape their own surface.
+// Offset for spawning rays off a surface: 0.1 mm, or 4e-7 of the point's largest coordinate
+// where that is more. A float's spacing is 1.2e-7 to 2.4e-7 of its magnitude, so the offset
+// is 2 to 4 spacings wide and a point 1e5 m from the origin still escapes its own surface
+// (a smaller factor rounds the offset point back onto the surface and the ray hits it again).
 inline float rayEpsilon(Vec3 p) {
-    return 1e-4f * std::max(1.0f, maxComponent(vmax(p, -p)) * 1e-3f);
+    return 1e-4f * std::max(1.0f, maxComponent(vmax(p, -p)) * 4e-3f);
 }
 
 }  // namespace brume

@@ -16,37 +16,17 @@
 #include "brume/render/checkpoint.h"
 #include "brume/render/fnv1a.h"
 
+#include "support/scratch_files.h"
+
 using namespace brume;
 namespace fs = std::filesystem;
 
+using brume::test::quote;
+using brume::test::readFile;
+using brume::test::TempDir;
+using brume::test::writeFile;
+
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        path = fs::temp_directory_path() /
-               ("brume-checkpoint-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    size_t count() const { return size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
-};
-
-std::string readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-void writeFile(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-}
 
 const CheckpointSettings kSettings = {{"--spp", "8"}, {"--seed", "3"}};
 
@@ -140,7 +120,7 @@ TEST_CASE("checkpoint: every truncation and every flipped byte is an error", "[c
     writeFile(bad, version);
     CHECK_THROWS_WITH(readCheckpoint(bad), Catch::Contains("version 2"));
     CHECK_THROWS_WITH(readCheckpoint(dir / "missing.ckpt"), Catch::Contains("missing.ckpt"));
-    CHECK_THROWS_WITH(readCheckpoint(dir.path.string()), Catch::Contains("directory"));
+    CHECK_THROWS_WITH(readCheckpoint(dir.path().string()), Catch::Contains("directory"));
 }
 
 TEST_CASE("checkpoint: a damaged size field cannot ask for a huge film", "[checkpoint]") {

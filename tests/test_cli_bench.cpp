@@ -16,46 +16,15 @@
 #include <vector>
 
 #include "brume/render/image_io.h"
+#include "support/scratch_files.h"
 
 namespace fs = std::filesystem;
 
+using brume::test::quote;
+using brume::test::readFile;
+using brume::test::TempDir;
+
 namespace {
-
-// A scratch directory that is deleted, contents and all, when the test ends.
-class Scratch {
-public:
-    Scratch() {
-        static std::atomic<int> serial{0};
-        root_ = fs::temp_directory_path() /
-                ("brume-bench-test-" + std::to_string(::getpid()) + "-" + std::to_string(serial++));
-        fs::remove_all(root_);
-        fs::create_directories(root_);
-    }
-    ~Scratch() {
-        std::error_code ignored;
-        fs::remove_all(root_, ignored);
-    }
-    std::string at(const std::string& name) const { return (root_ / name).string(); }
-
-private:
-    fs::path root_;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-std::string shellQuote(const std::string& s) {
-    std::string quoted = "'";
-    for (char c : s) {
-        if (c == '\'') quoted += "'\\''";
-        else quoted += c;
-    }
-    return quoted + "'";
-}
 
 struct Run {
     int exitCode = -1;
@@ -63,14 +32,14 @@ struct Run {
 };
 
 Run runBrume(const std::string& arguments) {
-    Scratch capture;
-    std::string command = shellQuote(BRUME_EXE) + " " + arguments + " </dev/null >" + shellQuote(capture.at("out")) +
-                          " 2>" + shellQuote(capture.at("err"));
+    TempDir capture;
+    std::string command = quote(BRUME_EXE) + " " + arguments + " </dev/null >" + quote(capture / "out") +
+                          " 2>" + quote(capture / "err");
     int status = std::system(command.c_str());
     Run run;
     if (WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
-    run.out = slurp(capture.at("out"));
-    run.err = slurp(capture.at("err"));
+    run.out = readFile(capture / "out");
+    run.err = readFile(capture / "err");
     return run;
 }
 
@@ -90,9 +59,9 @@ const char* const kQuick = " --res 24x24 --budgets 0.2 --reference-spp 16 --meth
 }  // namespace
 
 TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]") {
-    Scratch scratch;
-    const std::string dir = scratch.at("results/nested");  // created by brume
-    const std::string command = "bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + kQuick;
+    TempDir scratch;
+    const std::string dir = (scratch / "results/nested");  // created by brume
+    const std::string command = "bench " + quote(kScene) + " --out " + quote(dir) + kQuick;
 
     Run first = runBrume(command);
     INFO("stdout: " << first.out << "\nstderr: " << first.err);
@@ -103,7 +72,7 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
     CHECK(fs::exists(dir + "/reference.exr"));
     CHECK(fs::exists(dir + "/reference.json"));
 
-    std::vector<std::string> lines = split(slurp(dir + "/results.csv"), '\n');
+    std::vector<std::string> lines = split(readFile(dir + "/results.csv"), '\n');
     REQUIRE(lines.size() == 3);
     CHECK(lines[0] == "scene,method,budget_s,seconds,spp,rel_mse,rmse,efficiency");
     const char* methods[] = {"pt:density", "pt:mis"};
@@ -140,32 +109,32 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
     CHECK(contains(second.out, "reused"));
 
     // A different reference spp does not match the cache.
-    Run third = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) +
+    Run third = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
                       " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart");
     CHECK(third.exitCode == 0);
     CHECK_FALSE(contains(third.out, "reused"));
     CHECK_FALSE(contains(third.out, "chart"));
 
     // Nor does another reference method; the record names it.
-    Run fourth = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) +
+    Run fourth = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
                           " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart"
                           " --reference-method bdpt:density");
     CHECK(fourth.exitCode == 0);
     CHECK_FALSE(contains(fourth.out, "reused"));
-    CHECK(contains(slurp(dir + "/reference.json"), "\"bdpt:density\""));
+    CHECK(contains(readFile(dir + "/reference.json"), "\"bdpt:density\""));
 }
 
 TEST_CASE("bench: usage errors exit with 2", "[cli][bench]") {
-    Scratch scratch;
-    const std::string dir = scratch.at("out");
-    Run run = runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + " --methods pt:density,pt:nope");
+    TempDir scratch;
+    const std::string dir = (scratch / "out");
+    Run run = runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --methods pt:density,pt:nope");
     CHECK(run.exitCode == 2);
     CHECK(run.err.rfind("brume: error: ", 0) == 0);
     CHECK(contains(run.err, "pt:nope"));
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(dir));
 
-    CHECK(runBrume("bench " + shellQuote(kScene)).exitCode == 2);  // no --out
-    CHECK(runBrume("bench " + shellQuote(kScene) + " --out " + shellQuote(dir) + " --budgets 1,-2").exitCode == 2);
+    CHECK(runBrume("bench " + quote(kScene)).exitCode == 2);  // no --out
+    CHECK(runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --budgets 1,-2").exitCode == 2);
     CHECK(runBrume("bench --help").exitCode == 0);
 }

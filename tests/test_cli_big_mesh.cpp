@@ -15,30 +15,16 @@
 #include <regex>
 #include <string>
 
+#include "support/scratch_files.h"
+
 namespace fs = std::filesystem;
 
+using brume::test::quote;
+using brume::test::readFile;
+using brume::test::TempDir;
+using brume::test::writeFile;
+
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        path = fs::temp_directory_path() /
-               ("brume-big-mesh-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
-
-std::string readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 // Runs a shell command with stdout into `out`; the exit status, or -1 if it did not exit.
 int shell(const std::string& command, const std::string& out) {

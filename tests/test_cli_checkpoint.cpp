@@ -24,41 +24,16 @@
 #include "brume/render/checkpoint.h"
 #include "brume/render/image_io.h"
 
+#include "support/scratch_files.h"
+
 namespace fs = std::filesystem;
 
+using brume::test::quote;
+using brume::test::readFile;
+using brume::test::TempDir;
+using brume::test::writeFile;
+
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        static std::atomic<int> counter{0};
-        path = fs::temp_directory_path() /
-               ("brume-ckpt-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
-    std::vector<std::string> files() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-};
-
-std::string readFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-void writeFile(const std::string& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-}
 
 using Args = std::vector<std::string>;
 
@@ -244,7 +219,7 @@ TEST_CASE("cli checkpoint: damaged or mismatched checkpoints are one-line errors
     checkOneLineError(resume(ckpt, {"--res", "16x12", "--spp", "8", "--seed", "3"}), "--spp is 8 here but 4");
     checkOneLineError(resume(ckpt, {"--res", "16x12", "--spp", "4", "--seed", "4"}), "--seed");
     checkOneLineError(resume(ckpt, {"--res", "16x10", "--spp", "4", "--seed", "3"}), "--res");
-    checkOneLineError(resume(ckpt, base + Args{"--integrator", "bdpt"}), "--integrator");
+    checkOneLineError(resume(ckpt, base + Args{"--integrator", "pt"}), "--integrator");
     checkOneLineError(resume(ckpt, base + Args{"--connect", "density"}), "--connect");
     checkOneLineError(resume(ckpt, base + Args{"--max-depth", "3"}), "--max-depth");
     checkOneLineError(resume(ckpt, base + Args{"--mis", "balance"}), "--mis");
@@ -282,7 +257,7 @@ TEST_CASE("cli checkpoint: option errors", "[cli][checkpoint]") {
         {{scene, "-o", out, "--checkpoint", out}, 2, "same file"},
         {{scene, "-o", out, "--checkpoint", ""}, 2, "--checkpoint"},
         {{scene, "-o", out, "--checkpoint", "/nonexistent-dir/c.ckpt"}, 1, "/nonexistent-dir/c.ckpt"},
-        {{scene, "-o", out, "--checkpoint", dir.path.string()}, 1, "is a directory"},
+        {{scene, "-o", out, "--checkpoint", dir.path().string()}, 1, "is a directory"},
     };
     for (const Case& c : cases) {
         std::string line;

@@ -122,6 +122,25 @@ def tiny_spot(name):
     return b.write(out(name))
 
 
+def camera_in_beam(name):
+    """The camera on the light subpaths' rays: a spot light in view, 0.5 degree outer cone,
+    aimed exactly at the camera, so that every light subpath's first segment passes within
+    3 cm of the pinhole (camera connections sample towards it at distances near 0). A grey wall
+    behind the light."""
+    b = builder()
+    ambient_fog(b)
+    back_wall(b, -6.0, grey(b))
+    apex = (0.3, 0.2, -3.0)
+    d = g.normalize(g.sub((0.0, 0.0, 0.0), apex))
+    rot = g.quat_look_dir(d)
+    r = g.quat_rotate(rot, (0.0, 0.0, -1.0))
+    assert all(abs(r[i] - d[i]) < 1e-12 for i in range(3)), "spot points along %r" % (r,)
+    # Peak attenuation 1.45e-3 as in tiny_spot.
+    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 2.0e4, translation=apex, rotation=rot,
+                inner_cone=math.radians(0.25), outer_cone=math.radians(0.5))
+    return b.write(out(name))
+
+
 def directional(name, sun_node_inside):
     """Only a directional light, shining into a bounded fog box (vacuum outside, so that the
     light has a finite path through fog) above a grey floor outside the box. The light's node
@@ -287,6 +306,7 @@ def main():
         directional("directional.gltf", sun_node_inside=False),
         directional("directional_node_inside.gltf", sun_node_inside=True),
         tiny_spot("tiny_spot.gltf"),
+        camera_in_beam("camera_in_beam.gltf"),
         light_in_box("light_in_box.gltf"),
         far("far.gltf"),
         area_over_floor("area_over_floor.gltf"),

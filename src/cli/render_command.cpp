@@ -34,8 +34,8 @@ const char* const kRenderUsage =
     "\n"
     "options:\n"
     "  -o, --output OUT     output image (required)\n"
-    "  --integrator NAME    pt (volumetric path tracer; the default) or bdpt\n"
-    "                       (bidirectional path tracer)\n"
+    "  --integrator NAME    bdpt (bidirectional path tracer; the default) or pt\n"
+    "                       (volumetric path tracer)\n"
     "  --mis HEURISTIC      bdpt: power (the default) or balance\n"
     "  --strategy-images DIR  bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted\n"
     "                       contribution (they add up to the image; one extra render each,\n"
@@ -74,7 +74,7 @@ namespace {
 struct RenderArgs {
     std::string scene;
     std::string output;
-    std::string integrator = "pt";
+    std::string integrator = "bdpt";
     int spp = 16;
     bool sppGiven = false;
     double seconds = 0;

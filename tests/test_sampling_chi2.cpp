@@ -222,6 +222,26 @@ TEST_CASE("uniform cone sampling matches its density", "[chi2][warp]") {
     }
 }
 
+TEST_CASE("uniform cone sampling resolves small polar angles in a narrow cone", "[warp]") {
+    // A 0.5° cone: the fraction of directions within 0.01·θmax of the axis is 1e-4 (solid
+    // angle ∝ θ²). Taking sinθ from a rounded cosθ put 1 in ~600 samples exactly on the axis.
+    const float thetaMax = float(0.5 * M_PI / 180.0);
+    const float cosMax = std::cos(thetaMax);
+    const long n = 1000000;
+    Sampler sampler(7, 0, 0);
+    long near = 0, onAxis = 0;
+    for (long i = 0; i < n; ++i) {
+        Vec3 w = sampleUniformCone(sampler.next2D(), cosMax);
+        float sinTheta = std::sqrt(w.x * w.x + w.y * w.y);
+        onAxis += sinTheta == 0.0f;
+        near += sinTheta < 0.01f * std::sin(thetaMax);
+    }
+    const double p = 1e-4, expected = p * n, sigma = std::sqrt(n * p * (1 - p));
+    INFO("within 0.01 thetaMax: " << near << " (expected " << expected << " +- " << sigma << "), on the axis: " << onAxis);
+    CHECK(std::abs(near - expected) < 5 * sigma);
+    CHECK(onAxis == 0);
+}
+
 TEST_CASE("uniform triangle sampling is uniform in area", "[chi2][warp]") {
     // Barycentrics (b0, b1) of the triangle b0, b1 ≥ 0, b0 + b1 ≤ 1 (area 1/2): the area
     // density of any triangle maps affinely to the constant 2 here.

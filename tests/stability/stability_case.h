@@ -23,7 +23,6 @@
 //    times two, and at least 0.001 for the outliers), and, where the image mean stayed
 //    Gaussian enough (|z| < 4 over those seed sets), |z| of the image mean below kZ.
 #pragma once
-#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -59,9 +58,6 @@ struct StabilityCase {
     int batches = 32;
     Method reference = kPtMis;
     std::vector<Weakness> weak;
-    // Methods with an open bug on this case (docs/results.md): rendered and printed, every
-    // sample still required finite, the comparison reported as a warning instead of checked.
-    std::vector<std::string> knownBugs;
 
     StabilityCase(std::string caseName, std::string sceneFile) : name(std::move(caseName)), file(std::move(sceneFile)) {}
     StabilityCase& referenceMethod(Method m) { reference = m; return *this; }
@@ -70,10 +66,6 @@ struct StabilityCase {
     StabilityCase& weakMethod(Method m, double maxRelRmse, double maxOutliers, bool checkMeanZ) {
         weak.push_back({m, maxRelRmse, maxOutliers, checkMeanZ});
         return *this;
-    }
-    StabilityCase& knownBug(Method m) { knownBugs.push_back(m.name()); return *this; }
-    bool hasKnownBug(const Method& m) const {
-        return std::find(knownBugs.begin(), knownBugs.end(), m.name()) != knownBugs.end();
     }
     int spp(const Method& m) const { return m.bdpt ? sppBdpt : sppPt; }
 };
@@ -176,16 +168,8 @@ inline void runStabilityCase(const StabilityCase& sc, uint64_t seedBase = 0) {
         }
         StabilityRun run = renderBatches(*scene, *integrator, kWidth, kHeight, sc.spp(method), sc.batches, seed, kBlock);
         Comparison c = compareRuns(run, twin ? own : shared, mask);
-        const bool bug = sc.hasKnownBug(method);
-        printRow(sc.name, method.name() + (twin ? " vs itself on " + sc.twinFile : "") + (weak ? " (weak)" : "") +
-                              (bug ? " (known bug)" : ""),
-                 run, &c);
+        printRow(sc.name, method.name() + (twin ? " vs itself on " + sc.twinFile : "") + (weak ? " (weak)" : ""), run, &c);
         requireFinite(what, run);
-        if (bug) {
-            WARN(what << ": known bug, max |z| " << c.maxZ << ", image mean z " << c.zMean << ", bias " << c.relBias
-                      << (c.maxZ < kZ && std::abs(c.zMean) < kZ ? " (within bounds now: drop knownBug)" : ""));
-            continue;
-        }
         checkComparison(what, c, weak);
     }
 }

@@ -1,6 +1,7 @@
 // Quadrature references for single scattering in an infinite homogeneous fog
 // (σs = 0.2, σa = 0.05, g = 0.3, as tests/data/make_test_scenes.py writes them), seen from a
-// camera at the origin: point and spot lights (1D), sphere and quad lights (1D × 2D).
+// camera at the origin: point and spot lights (1D), sphere and quad lights (1D × 2D); and
+// singleScatterReference, a point or spot light in any such fog.
 #pragma once
 #include <cmath>
 #include <vector>
@@ -122,5 +123,40 @@ inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le)
     return integrateAlongRay(d, q, INFINITY, inScatter);
 }
 
+// Single scattering along ray o + t·d (o = origin) from a point light at c with intensity I,
+// optional spot cone, in infinite homogeneous fog:
+//   L = ∫0^∞ σs·T(t)·p(cosθ)·I·a(x)·T(r)/r² dt,  r = |c − x|, cosθ = d·(c − x)/r.
+// Substituting t = Δ + D·tanφ (dt = D/cos²φ dφ, r² = D²/cos²φ) gives the smooth integrand
+//   σs·T(t)·p·I·a·T(r)/D over φ ∈ [atan(−Δ/D), π/2), integrated by composite Simpson.
+// n: Simpson intervals (even); 20000 leaves the quadrature error far below any test's noise.
+inline Vec3 singleScatterReference(Vec3 d, Vec3 c, Vec3 I, Vec3 sigmaS, Vec3 sigmaA, double g, const Light* spot,
+                                   int n = 20000) {
+    double dx = d.x, dy = d.y, dz = d.z;
+    double delta = c.x * dx + c.y * dy + c.z * dz;
+    double px = c.x - delta * dx, py = c.y - delta * dy, pz = c.z - delta * dz;
+    double D = std::sqrt(px * px + py * py + pz * pz);
+    double a = std::atan2(-delta, D), b = 0.5 * M_PI;
+    Vec3 out;
+    for (int ch = 0; ch < 3; ++ch) {
+        double st = double(sigmaS[ch]) + sigmaA[ch];
+        auto f = [&](double phi) {
+            if (phi >= b) return 0.0;
+            double t = delta + D * std::tan(phi);
+            double xx = t * dx, xy = t * dy, xz = t * dz;
+            double lx = c.x - xx, ly = c.y - xy, lz = c.z - xz;
+            double r = std::sqrt(lx * lx + ly * ly + lz * lz);
+            double cosTheta = (dx * lx + dy * ly + dz * lz) / r;
+            double denom = 1 + g * g - 2 * g * cosTheta;
+            double phase = (1 - g * g) / (4 * M_PI * denom * std::sqrt(denom));
+            double atten = 1.0;
+            if (spot) atten = spotAttenuation(*spot, float(-(lx * spot->direction.x + ly * spot->direction.y + lz * spot->direction.z) / r));
+            return double(sigmaS[ch]) * std::exp(-st * (t + r)) * phase * I[ch] * atten / D;
+        };
+        double h = (b - a) / n, sum = f(a) + f(b);
+        for (int i = 1; i < n; ++i) sum += f(a + i * h) * (i % 2 ? 4 : 2);
+        out[ch] = float(sum * h / 3);
+    }
+    return out;
+}
 
 }  // namespace brume::test

@@ -1,0 +1,161 @@
+// The bidirectional path tracer against the closed-form oracles, in each --connect mode:
+// the furnace (every pixel exactly 1) and single scattering against 1D quadrature.
+// Estimates come from 32 independent renders (batch means, light-tracing splats included);
+// with 31 degrees of freedom |z| < 4.5 is missed by a correct estimate with probability ~1e-4
+// per comparison, and the seeds are fixed.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "brume/integrators/bdpt.h"
+#include "brume/scene/camera_importance.h"
+#include "support/film_estimates.h"
+#include "support/single_scatter_reference.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+constexpr double kZ = 4.5;
+constexpr int kBatches = 32;
+const ConnectMode kModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis};
+
+const char* modeName(ConnectMode m) {
+    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular" : "mis";
+}
+
+BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode) {
+    BdptOptions o{maxDepth, MisHeuristic::Power};
+    o.connect = mode;
+    return BdptIntegrator(o);
+}
+
+// Worst |z| of the estimates (block × block pixel averages of a W × W image) against a
+// reference per block, skipping masked blocks; `where` describes the worst one.
+template <class Ref>
+double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::vector<bool>& skip, Ref reference,
+              std::string* where) {
+    double worst = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+        if (skip[i]) continue;
+        Vec3 ref = reference(int(i) % blocksWide, int(i) / blocksWide);
+        for (int c = 0; c < 3; ++c) {
+            double se = px[i].stderror(c), diff = std::abs(px[i].mean(c) - ref[c]);
+            double z = se > 0 ? diff / se : (diff > 1e-5 * std::max(1.0, double(std::abs(ref[c]))) ? 1e9 : 0.0);
+            if (z > worst) {
+                worst = z;
+                *where = "block (" + std::to_string(int(i) % blocksWide) + "," + std::to_string(int(i) / blocksWide) +
+                         ") channel " + std::to_string(c) + ": " + std::to_string(px[i].mean(c)) + " ± " +
+                         std::to_string(px[i].stderror(c)) + " vs " + std::to_string(ref[c]);
+            }
+        }
+    }
+    return worst;
+}
+
+// The camera ray through film position (fx, fy) of a W × H image (camera at the origin
+// looking down −Z, +Y up, vertical field of view yfov), as the test scenes have it.
+Vec3 cameraDirection(double fx, double fy, int W, int H, double yfov) {
+    double tanY = std::tan(0.5 * yfov), tanX = tanY * W / H;
+    double sx = (2.0 * fx / W - 1.0) * tanX, sy = (1.0 - 2.0 * fy / H) * tanY;
+    double len = std::sqrt(sx * sx + sy * sy + 1.0);
+    return Vec3(float(sx / len), float(sy / len), float(-1.0 / len));
+}
+
+struct SingleCase {
+    const char* file;
+    Vec3 light;
+    Vec3 sigmaS, sigmaA;
+    double g;
+    bool spot;
+};
+
+// Per 2×2 block of a W × W image: the quadrature averaged over a 16×16 grid of film
+// positions, with anisotropy g; `skip` marks the block holding an in-view point light. (The
+// spot's falloff has a kink at its cone edges: a 6×6 grid was 5% off there, 16×16 is within
+// 0.5% of 32×32, a tenth of the estimates' standard error.)
+std::vector<Vec3> blockReference(const Scene& scene, const SingleCase& sc, int W, double g, std::vector<bool>* skip) {
+    const int B = 2, S = 16;
+    Light spot;
+    if (sc.spot) {  // as the generator writes it: pointing straight down, cone 0.2–0.4 rad
+        spot.kind = LightKind::Spot;
+        spot.direction = Vec3(0, -1, 0);
+        spot.cosInner = std::cos(0.2f);
+        spot.cosOuter = std::cos(0.4f);
+    }
+    const Vec3 I = sc.spot ? Vec3(30.0f) : Vec3(10.0f);
+    skip->assign(size_t(W / B) * (W / B), false);
+    CameraConnection cc;
+    if (connectToCamera(scene.camera(), sc.light, W, W, &cc)) (*skip)[size_t(int(cc.fy) / B) * (W / B) + int(cc.fx) / B] = true;
+    std::vector<Vec3> ref(skip->size());
+    for (size_t i = 0; i < ref.size(); ++i) {
+        if ((*skip)[i]) continue;
+        int bx = int(i) % (W / B), by = int(i) / (W / B);
+        Vec3 sum(0.0f);
+        for (int j = 0; j < S; ++j)
+            for (int k = 0; k < S; ++k) {
+                Vec3 d = cameraDirection(bx * B + (k + 0.5) * B / S, by * B + (j + 0.5) * B / S, W, W, kYfov);
+                sum += singleScatterReference(d, sc.light, I, sc.sigmaS, sc.sigmaA, g, sc.spot ? &spot : nullptr, 2000);
+            }
+        ref[i] = sum / float(S * S);
+    }
+    return ref;
+}
+
+}  // namespace
+
+TEST_CASE("bdpt furnace in every connect mode: every pixel is 1", "[bdpt][oracle]") {
+    for (const char* file : {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"}) {
+        auto scene = loadTestScene(file);
+        for (ConnectMode mode : kModes) {
+            BdptIntegrator bdpt = makeBdpt(-1, mode);
+            auto px = estimateFilm(*scene, bdpt, 8, 8, 8, kBatches, 7, 2);
+            std::string where;
+            double z = worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, &where);
+            INFO(file << " --connect " << modeName(mode) << ": worst " << where << " (z = " << z << ")");
+            CHECK(z < kZ);
+        }
+    }
+}
+
+TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", "[bdpt][oracle]") {
+    // A pixel's value is the average over its area (box filter), so the reference averages the
+    // quadrature over each 2×2 block (smooth there; the block holding an in-view point light,
+    // where radiance has a 1/angle peak, is skipped).
+    const Vec3 grey02(0.2f), grey005(0.05f);
+    const SingleCase cases[] = {
+        {"single_near.gltf", Vec3(0.3f, 0.2f, -3), grey02, grey005, 0.3, false},
+        {"single_behind.gltf", Vec3(0.5f, 0, 2), grey02, grey005, 0.3, false},
+        {"single_chromatic.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.3f, 0.2f, 0.1f), Vec3(0.02f, 0.05f, 0.1f), -0.4, false},
+        {"single_spot.gltf", Vec3(0, 1.5f, -3), grey02, grey005, 0.3, true},
+    };
+    const int W = 10, B = 2;
+    for (const SingleCase& sc : cases) {
+        auto scene = loadTestScene(sc.file);
+        std::vector<bool> skip;
+        std::vector<Vec3> ref = blockReference(*scene, sc, W, sc.g, &skip);
+        for (ConnectMode mode : kModes) {
+            BdptIntegrator bdpt = makeBdpt(1, mode);
+            auto px = estimateFilm(*scene, bdpt, W, W, 32, kBatches, 11, B);
+            std::string where;
+            double z = worstZ(px, W / B, skip, [&](int x, int y) { return ref[size_t(y) * (W / B) + x]; }, &where);
+            INFO(sc.file << " --connect " << modeName(mode) << ": worst " << where << " (z = " << z << ")");
+            CHECK(z < kZ);
+        }
+    }
+}
+
+TEST_CASE("the bdpt single-scattering oracle can fail: a wrong phase sign is detected", "[bdpt][oracle]") {
+    const SingleCase sc{"single_near.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.2f), Vec3(0.05f), 0.3, false};
+    auto scene = loadTestScene(sc.file);
+    std::vector<bool> skip;
+    std::vector<Vec3> wrong = blockReference(*scene, sc, 10, -sc.g, &skip);
+    BdptIntegrator bdpt = makeBdpt(1, ConnectMode::Mis);
+    auto px = estimateFilm(*scene, bdpt, 10, 10, 32, kBatches, 11, 2);
+    std::string where;
+    double z = worstZ(px, 5, skip, [&](int x, int y) { return wrong[size_t(y) * 5 + x]; }, &where);
+    INFO("against g = -0.3: worst " << where << " (z = " << z << ")");
+    CHECK(z > kZ);
+}

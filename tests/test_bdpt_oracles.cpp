@@ -78,13 +78,7 @@ struct SingleCase {
 // 0.5% of 32×32, a tenth of the estimates' standard error.)
 std::vector<Vec3> blockReference(const Scene& scene, const SingleCase& sc, int W, double g, std::vector<bool>* skip) {
     const int B = 2, S = 16;
-    Light spot;
-    if (sc.spot) {  // as the generator writes it: pointing straight down, cone 0.2–0.4 rad
-        spot.kind = LightKind::Spot;
-        spot.direction = Vec3(0, -1, 0);
-        spot.cosInner = std::cos(0.2f);
-        spot.cosOuter = std::cos(0.4f);
-    }
+    const Light spot = singleSpotLight();
     const Vec3 I = sc.spot ? Vec3(30.0f) : Vec3(10.0f);
     skip->assign(size_t(W / B) * (W / B), false);
     CameraConnection cc;

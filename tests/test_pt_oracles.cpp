@@ -91,13 +91,7 @@ TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][
     for (const SingleCase& sc : cases)
     for (ConnectMode mode : kModes) {
         auto scene = loadTestScene(sc.file);
-        Light spot;
-        if (sc.spot) {  // as the generator writes it: pointing straight down, cone 0.2–0.4 rad
-            spot.kind = LightKind::Spot;
-            spot.direction = Vec3(0, -1, 0);
-            spot.cosInner = std::cos(0.2f);
-            spot.cosOuter = std::cos(0.4f);
-        }
+        const Light spot = singleSpotLight();
         const Vec3 I = sc.spot ? Vec3(30.0f) : Vec3(10.0f);
         PathTracer pt(PathTracerOptions{1, true, mode});
         auto px = estimatePixels(*scene, pt, W, H, sc.spp, 5);

@@ -123,6 +123,17 @@ inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le)
     return integrateAlongRay(d, q, INFINITY, inScatter);
 }
 
+// The spot light of single_spot.gltf as the generator writes it: pointing straight down, cone
+// 0.2–0.4 rad (position and intensity are the caller's).
+inline Light singleSpotLight() {
+    Light spot;
+    spot.kind = LightKind::Spot;
+    spot.direction = Vec3(0, -1, 0);
+    spot.cosInner = std::cos(0.2f);
+    spot.cosOuter = std::cos(0.4f);
+    return spot;
+}
+
 // Single scattering along ray o + t·d (o = origin) from a point light at c with intensity I,
 // optional spot cone, in infinite homogeneous fog:
 //   L = ∫0^∞ σs·T(t)·p(cosθ)·I·a(x)·T(r)/r² dt,  r = |c − x|, cosθ = d·(c − x)/r.

@@ -178,6 +178,50 @@ TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
     }
 }
 
+TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants add up to the image", "[bdpt]") {
+    for (ConnectMode mode : {ConnectMode::Mis, ConnectMode::EquiAngular}) {
+        auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+        const int W = 12, depth = 3;
+        RenderOptions o;
+        o.width = o.height = W;
+        o.spp = 8;
+        o.seed = 78;
+        BdptOptions base{depth, MisHeuristic::Power};
+        base.connect = mode;
+        Film full(W, W);
+        render(*scene, BdptIntegrator(base), o, full);
+        std::vector<Spectrum> sum(size_t(W) * W, Spectrum(0.0f));
+        double eaTotal = 0;
+        for (int d = 0; d <= depth; ++d)
+            for (int s = 0; s <= d + 2; ++s) {
+                int t = d + 2 - s;
+                if (t < 1) continue;
+                for (int variant : {0, 1}) {
+                    BdptOptions opt = base;
+                    opt.onlyS = s, opt.onlyT = t, opt.weighted = true, opt.onlyVariant = variant;
+                    Film f(W, W);
+                    render(*scene, BdptIntegrator(opt), o, f);
+                    for (int y = 0; y < W; ++y)
+                        for (int x = 0; x < W; ++x) {
+                            sum[size_t(y) * W + x] += f.pixel(x, y);
+                            if (variant == 1) eaTotal += f.pixel(x, y)[0];
+                        }
+                }
+            }
+        double worst = 0;
+        for (int y = 0; y < W; ++y)
+            for (int x = 0; x < W; ++x)
+                for (int c = 0; c < 3; ++c) {
+                    double a = full.pixel(x, y)[c], b = sum[size_t(y) * W + x][c];
+                    worst = std::max(worst, std::abs(a - b) / std::max(1e-3, std::abs(a)));
+                }
+        INFO("--connect " << (mode == ConnectMode::Mis ? "mis" : "equiangular") << ": worst relative difference "
+                          << worst << ", equi-angular variants' total " << eaTotal);
+        CHECK(worst < 1e-4);
+        CHECK(eaTotal > 0);
+    }
+}
+
 TEST_CASE("bdpt: the same seed gives the same image for 1 and 2 threads (splats included)", "[bdpt]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     RenderOptions o;

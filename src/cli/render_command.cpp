@@ -39,7 +39,9 @@ const char* const kRenderUsage =
     "  --mis HEURISTIC      bdpt: power (the default) or balance\n"
     "  --strategy-images DIR  bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted\n"
     "                       contribution (they add up to the image; one extra render each,\n"
-    "                       for s + t - 2 up to min(max-depth, 5))\n"
+    "                       for s + t - 2 up to min(max-depth, 5)); with --connect\n"
+    "                       equiangular or mis, s<S>_t<T>_ff.exr and s<S>_t<T>_ea.exr, the\n"
+    "                       free-flight and equi-angular variants, instead\n"
     "  --spp N              samples per pixel (default 16)\n"
     "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
     "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
@@ -184,12 +186,18 @@ void writeStrategyImages(const Scene& scene, BdptOptions bdpt, RenderOptions opt
             if (t < 1) continue;
             bdpt.onlyS = s;
             bdpt.onlyT = t;
-            BdptIntegrator integrator(bdpt);
-            Film film(options.width, options.height);
-            render(scene, integrator, options, film, &gInterrupted);
-            if (gInterrupted.load()) return;
-            std::string path = dir + "/s" + std::to_string(s) + "_t" + std::to_string(t) + ".exr";
-            writeImage(path, options.width, options.height, film.rgb());
+            // With equi-angular connections each strategy has two variants, one image each.
+            const bool variants = bdpt.connect != ConnectMode::Density;
+            for (int variant = variants ? 0 : -1; variant <= (variants ? 1 : -1); ++variant) {
+                bdpt.onlyVariant = variant;
+                BdptIntegrator integrator(bdpt);
+                Film film(options.width, options.height);
+                render(scene, integrator, options, film, &gInterrupted);
+                if (gInterrupted.load()) return;
+                std::string path = dir + "/s" + std::to_string(s) + "_t" + std::to_string(t) +
+                                   (variant == 0 ? "_ff" : variant == 1 ? "_ea" : "") + ".exr";
+                writeImage(path, options.width, options.height, film.rgb());
+            }
         }
     std::printf("strategy images in %s\n", dir.c_str());
 }

@@ -312,7 +312,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             PathVertex& pt = camera[t - 1];
 
             if (s == 0) {
-                // The camera subpath found an emitter on its own.
+                // The camera subpath found an emitter on its own (a free-flight strategy only).
+                if (options_.onlyVariant == 1) continue;
                 if (!realPt || pt.light < 0 || !pt.isSurface()) continue;
                 contrib = pt.beta * emitted(scene, pt, pt.wo);
                 if (isBlack(contrib)) continue;
@@ -339,6 +340,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
+                if (options_.onlyVariant >= 0 && variant != options_.onlyVariant) continue;
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;
@@ -395,6 +397,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
+                if (options_.onlyVariant >= 0 && variant != options_.onlyVariant) continue;
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;
@@ -469,6 +472,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 for (int variant = 0; variant < 2; ++variant) {
                 const bool ea = variant == 1;
                 if (ea ? !eaOn : !ffOn) continue;
+                if (options_.onlyVariant >= 0 && variant != options_.onlyVariant) continue;
                 Scoped<PathVertex> swap;
                 if (ea) {
                     PathVertex v;

@@ -28,6 +28,9 @@ struct BdptOptions {
     // the weighted images of all strategies add up to the full image for the same seed.
     int onlyS = -1, onlyT = -1;
     bool weighted = false;
+    // With onlyS: 0 keeps only the free-flight variant of the strategy, 1 only its
+    // equi-angular variant (a connection vertex placed towards the other subpath), −1 both.
+    int onlyVariant = -1;
     // Light connections at medium vertices: Density = plain BDPT; EquiAngular = the camera
     // vertex z(t−1) is sampled equi-angularly towards y(s−1) instead of by free flight;
     // Mis = both variants, MIS-weighted (docs/mis.md).

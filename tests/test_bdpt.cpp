@@ -72,6 +72,19 @@ std::vector<PixelEstimate> exactDepth(const std::vector<PixelEstimate>& upToK, c
     return out;
 }
 
+// Largest per-channel difference between a W × W film and a sum of images, relative to the
+// film's value (at least 1e-3).
+double worstRelativeDifference(const Film& full, const std::vector<Spectrum>& sum, int W) {
+    double worst = 0;
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double a = full.pixel(x, y)[c], b = sum[size_t(y) * W + x][c];
+                worst = std::max(worst, std::abs(a - b) / std::max(1e-3, std::abs(a)));
+            }
+    return worst;
+}
+
 // Blocks of 2×2 pixels of a W×W image; blocks that show a point light directly are skipped.
 void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt, int batches) {
     auto scene = loadTestScene(file);
@@ -166,13 +179,7 @@ TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
                 for (int y = 0; y < W; ++y)
                     for (int x = 0; x < W; ++x) sum[size_t(y) * W + x] += f.pixel(x, y);
             }
-        double worst = 0;
-        for (int y = 0; y < W; ++y)
-            for (int x = 0; x < W; ++x)
-                for (int c = 0; c < 3; ++c) {
-                    double a = full.pixel(x, y)[c], b = sum[size_t(y) * W + x][c];
-                    worst = std::max(worst, std::abs(a - b) / std::max(1e-3, std::abs(a)));
-                }
+        double worst = worstRelativeDifference(full, sum, W);
         INFO(file << ": worst relative difference " << worst);
         CHECK(worst < 1e-4);
     }
@@ -208,13 +215,7 @@ TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants
                         }
                 }
             }
-        double worst = 0;
-        for (int y = 0; y < W; ++y)
-            for (int x = 0; x < W; ++x)
-                for (int c = 0; c < 3; ++c) {
-                    double a = full.pixel(x, y)[c], b = sum[size_t(y) * W + x][c];
-                    worst = std::max(worst, std::abs(a - b) / std::max(1e-3, std::abs(a)));
-                }
+        double worst = worstRelativeDifference(full, sum, W);
         INFO("--connect " << (mode == ConnectMode::Mis ? "mis" : "equiangular") << ": worst relative difference "
                           << worst << ", equi-angular variants' total " << eaTotal);
         CHECK(worst < 1e-4);

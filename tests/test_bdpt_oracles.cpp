@@ -55,15 +55,6 @@ double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::v
     return worst;
 }
 
-// The camera ray through film position (fx, fy) of a W × H image (camera at the origin
-// looking down −Z, +Y up, vertical field of view yfov), as the test scenes have it.
-Vec3 cameraDirection(double fx, double fy, int W, int H, double yfov) {
-    double tanY = std::tan(0.5 * yfov), tanX = tanY * W / H;
-    double sx = (2.0 * fx / W - 1.0) * tanX, sy = (1.0 - 2.0 * fy / H) * tanY;
-    double len = std::sqrt(sx * sx + sy * sy + 1.0);
-    return Vec3(float(sx / len), float(sy / len), float(-1.0 / len));
-}
-
 struct SingleCase {
     const char* file;
     Vec3 light;
@@ -90,7 +81,7 @@ std::vector<Vec3> blockReference(const Scene& scene, const SingleCase& sc, int W
         Vec3 sum(0.0f);
         for (int j = 0; j < S; ++j)
             for (int k = 0; k < S; ++k) {
-                Vec3 d = cameraDirection(bx * B + (k + 0.5) * B / S, by * B + (j + 0.5) * B / S, W, W, kYfov);
+                Vec3 d = referenceCameraDirection(bx * B + (k + 0.5) * B / S, by * B + (j + 0.5) * B / S, W, W, kYfov);
                 sum += singleScatterReference(d, sc.light, I, sc.sigmaS, sc.sigmaA, g, sc.spot ? &spot : nullptr, 2000);
             }
         ref[i] = sum / float(S * S);

@@ -48,14 +48,19 @@ inline std::vector<PixelEstimate> estimatePixels(const Scene& scene, const Integ
     return px;
 }
 
-// Direction of the ray through pixel centre (x, y) of a camera at the origin looking down
-// −Z with +Y up, written out independently of brume's Camera.
-inline Vec3 referenceCameraDirection(int x, int y, int width, int height, double yfov) {
+// Direction of the ray through film position (fx, fy) of a camera at the origin looking down
+// −Z with +Y up, written out independently of brume's Camera; the second form takes the
+// centre of pixel (x, y).
+inline Vec3 referenceCameraDirection(double fx, double fy, int width, int height, double yfov) {
     double tanY = std::tan(0.5 * yfov), tanX = tanY * width / height;
-    double sx = (2.0 * (x + 0.5) / width - 1.0) * tanX;
-    double sy = (1.0 - 2.0 * (y + 0.5) / height) * tanY;
+    double sx = (2.0 * fx / width - 1.0) * tanX;
+    double sy = (1.0 - 2.0 * fy / height) * tanY;
     double len = std::sqrt(sx * sx + sy * sy + 1.0);
     return Vec3(float(sx / len), float(sy / len), float(-1.0 / len));
+}
+
+inline Vec3 referenceCameraDirection(int x, int y, int width, int height, double yfov) {
+    return referenceCameraDirection(x + 0.5, y + 0.5, width, height, yfov);
 }
 
 }  // namespace brume::test

@@ -10,6 +10,7 @@
 #include "brume/integrators/path_tracer.h"
 #include "brume/scene/camera_importance.h"
 #include "support/film_estimates.h"
+#include "support/single_scatter_reference.h"
 
 using namespace brume;
 using namespace brume::test;
@@ -216,7 +217,7 @@ TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants
                 }
             }
         double worst = worstRelativeDifference(full, sum, W);
-        INFO("--connect " << (mode == ConnectMode::Mis ? "mis" : "equiangular") << ": worst relative difference "
+        INFO("--connect " << connectModeName(mode) << ": worst relative difference "
                           << worst << ", equi-angular variants' total " << eaTotal);
         CHECK(worst < 1e-4);
         CHECK(eaTotal > 0);
@@ -251,7 +252,7 @@ TEST_CASE("bdpt matches pt: glass sphere in fog lit by a small bulb (caustic)", 
         auto b = estimateFilm(*scene, bdpt, 16, 16, mode == ConnectMode::Density ? 128 : 64, 16, 2, 8);
         std::string where;
         double z = worstZ(a, b, std::vector<bool>(a.size(), false), 2, &where);
-        INFO("--connect " << int(mode) << ": worst " << where << " (z = " << z << ")");
+        INFO("--connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");
         CHECK(z < kZ);
     }
 }

@@ -20,12 +20,6 @@ namespace {
 
 constexpr double kZ = 4.5;
 constexpr int kBatches = 32;
-const ConnectMode kModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis};
-
-const char* modeName(ConnectMode m) {
-    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular" : "mis";
-}
-
 BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
     o.connect = mode;
@@ -54,14 +48,6 @@ double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::v
     }
     return worst;
 }
-
-struct SingleCase {
-    const char* file;
-    Vec3 light;
-    Vec3 sigmaS, sigmaA;
-    double g;
-    bool spot;
-};
 
 // Per 2×2 block of a W × W image: the quadrature averaged over a 16×16 grid of film
 // positions, with anisotropy g; `skip` marks the block holding an in-view point light. (The
@@ -94,12 +80,12 @@ std::vector<Vec3> blockReference(const Scene& scene, const SingleCase& sc, int W
 TEST_CASE("bdpt furnace in every connect mode: every pixel is 1", "[bdpt][oracle]") {
     for (const char* file : {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"}) {
         auto scene = loadTestScene(file);
-        for (ConnectMode mode : kModes) {
+        for (ConnectMode mode : kConnectModes) {
             BdptIntegrator bdpt = makeBdpt(-1, mode);
             auto px = estimateFilm(*scene, bdpt, 8, 8, 8, kBatches, 7, 2);
             std::string where;
             double z = worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, &where);
-            INFO(file << " --connect " << modeName(mode) << ": worst " << where << " (z = " << z << ")");
+            INFO(file << " --connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");
             CHECK(z < kZ);
         }
     }
@@ -121,12 +107,12 @@ TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", 
         auto scene = loadTestScene(sc.file);
         std::vector<bool> skip;
         std::vector<Vec3> ref = blockReference(*scene, sc, W, sc.g, &skip);
-        for (ConnectMode mode : kModes) {
+        for (ConnectMode mode : kConnectModes) {
             BdptIntegrator bdpt = makeBdpt(1, mode);
             auto px = estimateFilm(*scene, bdpt, W, W, 32, kBatches, 11, B);
             std::string where;
             double z = worstZ(px, W / B, skip, [&](int x, int y) { return ref[size_t(y) * (W / B) + x]; }, &where);
-            INFO(sc.file << " --connect " << modeName(mode) << ": worst " << where << " (z = " << z << ")");
+            INFO(sc.file << " --connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");
             CHECK(z < kZ);
         }
     }

@@ -42,19 +42,6 @@ void requireAgreement(const std::vector<PixelEstimate>& px, int width,
     CHECK(worst < kZ);
 }
 
-const ConnectMode kModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis};
-const char* modeName(ConnectMode m) {
-    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular" : "mis";
-}
-
-struct SingleCase {
-    const char* file;
-    Vec3 light;
-    Vec3 sigmaS, sigmaA;
-    double g;
-    bool spot;
-    int spp = 4096;
-};
 
 }  // namespace
 
@@ -62,12 +49,12 @@ TEST_CASE("furnace: every pixel of an albedo-1 cavity with walls emitting 1 is 1
     const char* files[] = {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"};
     for (const char* file : files) {
         auto scene = loadTestScene(file);
-        for (ConnectMode mode : kModes)
+        for (ConnectMode mode : kConnectModes)
             for (bool nee : {true, false}) {
                 if (!nee && mode != ConnectMode::Density) continue;  // without NEE the modes coincide
                 PathTracer pt(PathTracerOptions{-1, nee, mode});
                 auto px = estimatePixels(*scene, pt, 8, 8, 256, 17);
-                std::string what = std::string(file) + " " + modeName(mode) + (nee ? " (NEE)" : " (no NEE)");
+                std::string what = std::string(file) + " " + connectModeName(mode) + (nee ? " (NEE)" : " (no NEE)");
                 requireAgreement(px, 8, [](int, int) { return Vec3(1.0f); }, what.c_str());
             }
     }
@@ -89,13 +76,13 @@ TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][
     const int W = 10, H = 10;
     const double yfov = 0.6;
     for (const SingleCase& sc : cases)
-    for (ConnectMode mode : kModes) {
+    for (ConnectMode mode : kConnectModes) {
         auto scene = loadTestScene(sc.file);
         const Light spot = singleSpotLight();
         const Vec3 I = sc.spot ? Vec3(30.0f) : Vec3(10.0f);
         PathTracer pt(PathTracerOptions{1, true, mode});
         auto px = estimatePixels(*scene, pt, W, H, sc.spp, 5);
-        std::string what = std::string(sc.file) + " " + modeName(mode);
+        std::string what = std::string(sc.file) + " " + connectModeName(mode);
         requireAgreement(px, W, [&](int x, int y) {
             return singleScatterReference(referenceCameraDirection(x, y, W, H, yfov), sc.light, I, sc.sigmaS,
                                           sc.sigmaA, sc.g, sc.spot ? &spot : nullptr);
@@ -132,19 +119,19 @@ TEST_CASE("a point light exactly on a camera ray: no NaN or Inf in any mode", "[
     // of that pixel; every other pixel must still match the quadrature.
     auto scene = loadTestScene("single_on_ray.gltf");
     const int W = 9, H = 9;
-    for (ConnectMode mode : kModes) {
+    for (ConnectMode mode : kConnectModes) {
         PathTracer pt(PathTracerOptions{1, true, mode});
         auto px = estimatePixels(*scene, pt, W, H, 512, 23);
         for (const PixelEstimate& e : px)
             for (int c = 0; c < 3; ++c) {
-                INFO(modeName(mode));
+                INFO(connectModeName(mode));
                 CHECK(std::isfinite(e.mean(c)));
                 CHECK(std::isfinite(e.stderror(c)));
             }
         std::vector<PixelEstimate> others;
         for (int i = 0; i < W * H; ++i)
             if (i != (H / 2) * W + W / 2) others.push_back(px[i]);
-        INFO(modeName(mode));
+        INFO(connectModeName(mode));
         double worst = 0;
         for (int i = 0, k = 0; i < W * H; ++i) {
             if (i == (H / 2) * W + W / 2) continue;

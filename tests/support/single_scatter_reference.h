@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "brume/integrators/path_tracer.h"
 #include "brume/math/frame.h"
 #include "brume/scene/light.h"
 
@@ -122,6 +123,23 @@ inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le)
     };
     return integrateAlongRay(d, q, INFINITY, inScatter);
 }
+
+// The three --connect modes, for tests that run each.
+const ConnectMode kConnectModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis};
+inline const char* connectModeName(ConnectMode m) {
+    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular" : "mis";
+}
+
+// A single-scattering test scene (tests/data/single_*.gltf): its light, fog and the samples
+// per pixel a path tracer needs for it.
+struct SingleCase {
+    const char* file;
+    Vec3 light;
+    Vec3 sigmaS, sigmaA;
+    double g;
+    bool spot;
+    int spp = 4096;
+};
 
 // The spot light of single_spot.gltf as the generator writes it: pointing straight down, cone
 // 0.2–0.4 rad (position and intensity are the caller's).

@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/visibility.h"
@@ -37,7 +38,7 @@ struct Checker : BdptObserver {
     ConnectMode connect = ConnectMode::Density;
     bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
     mutable std::mutex mutex;
-    mutable double worst = 0;
+    mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
     mutable std::string worstInfo;
 
@@ -75,12 +76,11 @@ struct Checker : BdptObserver {
             int interior = scene->mesh(a.mesh).interiorMedium;
             if (interior >= 0 && dot(a.wo, a.ng) * dot(w, a.ng) < 0) media.toggle(interior);
         }
-        Vec3 o = isAreaLike(a) ? offsetOrigin(a.p, a.ng, w) : a.p;
-        float travel = length(b.p - o) - (isAreaLike(b) ? rayEpsilon(b.p) : 0.0f);
         PathStats stats;
         ShadowTarget target;
         if (b.mesh >= 0) target.mesh = b.mesh, target.triangle = b.triangle;
-        Connection c = connectPoints(*scene, o, w, travel, media, a.isMedium(), b.isMedium(), target, stats);
+        WalkSegment seg = leaving(a.p, isAreaLike(a) ? a.ng : Vec3(0.0f), w, float(dist), isAreaLike(b), target);
+        Connection c = connectPoints(*scene, seg, media, a.isMedium(), b.isMedium(), stats);
         return g * c.freeFlightToB;
     }
 
@@ -92,9 +92,9 @@ struct Checker : BdptObserver {
             int interior = scene->mesh(p.mesh).interiorMedium;
             if (interior >= 0 && dot(p.wo, p.ng) * dot(w, p.ng) < 0) media.toggle(interior);
         }
-        Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
         PathStats stats;
-        return connectPoints(*scene, o, w, length(v.p - o), media, p.isMedium(), true, ShadowTarget{}, stats).crossed;
+        WalkSegment seg = leaving(p.p, isAreaLike(p) ? p.ng : Vec3(0.0f), w, length(v.p - p.p));
+        return connectPoints(*scene, seg, media, p.isMedium(), true, stats).crossed;
     }
 
     // p_ea of v on the ray from p aimed at `anchor`: over the unbounded ray (the stand-in), or
@@ -105,9 +105,12 @@ struct Checker : BdptObserver {
         float dist = length(e);
         Vec3 w = e / dist;
         if (!exact) return equiAngularPdf(makeEquiAngular(p.p, w, anchor, 0.0f, kInfinity), dist);
-        Vec3 o = isAreaLike(p) ? offsetOrigin(p.p, p.ng, w) : p.p;
-        SurfaceHit hit = scene->intersect(Ray{o, w, kInfinity});
-        float a = 0, b = hit.valid() ? hit.t : kInfinity;
+        // The walk's ray from p's own position, to where its first piece ends.
+        Vec3 o = p.p;
+        PathStats stats;
+        BoundaryPiece first;
+        BoundaryWalk(*scene, leaving(p.p, isAreaLike(p) ? p.ng : Vec3(0.0f), w), p.media, stats).next(&first);
+        float a = 0, b = first.t1;
         if (clip && clip->kind == LightKind::Spot && !clipToSpotCone(*clip, o, w, &a, &b)) return 0;
         if (clip && clip->kind == LightKind::Triangle && !scene->material(clip->mesh).doubleSided) {
             const Mesh& mesh = scene->mesh(clip->mesh);
@@ -190,8 +193,8 @@ struct Checker : BdptObserver {
                     // 1/d², times the free flight from outside the scene to x(k−1).
                     PathStats stats;
                     Vec3 up = -L.direction;
-                    Vec3 o = isAreaLike(y[i]) ? offsetOrigin(y[i].p, y[i].ng, up) : y[i].p;
-                    Connection c = connectPoints(*scene, o, up, kInfinity, y[i].media, y[i].isMedium(), false, ShadowTarget{}, stats);
+                    WalkSegment seg = leaving(y[i].p, isAreaLike(y[i]) ? y[i].ng : Vec3(0.0f), up);
+                    Connection c = connectPoints(*scene, seg, y[i].media, y[i].isMedium(), false, stats);
                     rev[i] = pos * (isAreaLike(y[i]) ? std::abs(dot(y[i].ng, up)) : 1.0) * c.freeFlightToA;
                     continue;
                 }
@@ -238,13 +241,24 @@ struct Checker : BdptObserver {
                 std::printf("  y0->y1: dir %g dist %g step %g  y1.wo·d %g\n", dir, length(y1.p - y0.p), stepFactor(std::vector<PathVertex>{y0, y1}, 0, 1), dot(-y1.wo, normalize(y1.p - y0.p)));
             }
         }
+        // Positions are floats: an edge of length ℓ between points of size |p| has its length
+        // and direction known to ~2^-23·|p|/ℓ only, and so do the densities the weights are
+        // made of. 1e-4 is asked of every path whose edges resolve that well (all but edges
+        // shorter than ~0.1 mm); a path with a shorter edge is held to its own precision.
+        double minEdge = kInfinity, maxCoord = 1;
+        for (int i = 0; i <= (directional ? k - 1 : k); ++i) {  // (a directional light's vertex is made up)
+            maxCoord = std::max(maxCoord, double(maxComponent(vmax(x[i].p, -x[i].p))));
+            if (i > 0) minEdge = std::min(minEdge, double(length(x[i].p - x[i - 1].p)));
+        }
+        const double tolerance = std::max(1e-4, 4 * 0x1p-23 * maxCoord / minEdge);
         std::lock_guard<std::mutex> lock(mutex);
         ++paths;
         double err = std::abs(expected - double(weight));
-        if (err > worst) {
+        if (err / tolerance > worst / worstTolerance) {
             worst = err;
+            worstTolerance = tolerance;
             worstInfo = "s=" + std::to_string(s) + " t=" + std::to_string(t) + " weight " + std::to_string(weight) +
-                        " expected " + std::to_string(expected);
+                        " expected " + std::to_string(expected) + " tolerance " + std::to_string(tolerance);
         }
     }
 };
@@ -274,7 +288,7 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         INFO(file << (h == MisHeuristic::Power ? " power" : " balance") << ": " << checker.paths
                   << " weighted paths, worst |w − w_expected| = " << checker.worst << " (" << checker.worstInfo << ")");
         CHECK(checker.paths > 100);
-        CHECK(checker.worst < 1e-4);
+        CHECK(checker.worst < checker.worstTolerance);
     }
 }
 
@@ -306,11 +320,10 @@ TEST_CASE("bdpt MIS weights with exact (bounded, clipped) equi-angular densities
     checkWeights("bdpt_glass_sphere.gltf", 4, ConnectMode::Mis, true);
 }
 
-// Open: with the camera outside an invisible fog boundary, light-tracing paths (t = 1) show
-// up to 1.2e-4: the camera's density for the floor vertex differs by 2e-4 relative between
-// the integrator's connection (floor → camera) and the checker's (camera → floor), as if the
-// fog length differed by ~4e-4 m. Reported here, not failing the suite, until found.
-TEST_CASE("bdpt MIS weights through an invisible boundary (known open discrepancy)", "[bdpt][mis][!mayfail]") {
+// With the camera outside an invisible fog boundary. (This once differed by 1.2e-4: rays left
+// surfaces from points pushed off them and restarted at each boundary, so the fog length of an
+// edge depended on which end it was traced from; boundary_walk.h now measures exact segments.)
+TEST_CASE("bdpt MIS weights through an invisible boundary", "[bdpt][mis]") {
     checkWeights("bdpt_quad_fogbox.gltf", 4);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::Mis);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::EquiAngular);

@@ -77,7 +77,7 @@ RenderOptions options(int w, int h, int spp, int threads, uint64_t seed = 7) {
     return o;
 }
 
-std::vector<float> renderImage(const Integrator& integrator, const RenderOptions& o, RenderStats* stats = nullptr) {
+std::vector<float> renderImage(Integrator& integrator, const RenderOptions& o, RenderStats* stats = nullptr) {
     Film film(o.width, o.height);
     RenderStats s = render(emptyScene(), integrator, o, film);
     if (stats) *stats = s;
@@ -143,7 +143,7 @@ TEST_CASE("film: bad sizes are rejected", "[film]") {
     CHECK_THROWS_AS(Film(4, -1), std::invalid_argument);
 }
 
-TEST_CASE("renderer: each sample uses Sampler(seed, y*width+x, pass), jitter first", "[renderer]") {
+TEST_CASE("renderer: each sample uses Sampler(seed, y*width+x, pass), jitter at its own dimension", "[renderer]") {
     const int w = 21, h = 18, spp = 3;
     FirstDrawIntegrator integrator;
     RenderStats stats;
@@ -156,8 +156,8 @@ TEST_CASE("renderer: each sample uses Sampler(seed, y*width+x, pass), jitter fir
         for (int x = 0; x < w; ++x) {
             double sum = 0;
             for (int pass = 0; pass < spp; ++pass) {
+                // The jitter reads dimension kFilmJitter, not the sequential stream.
                 Sampler s(1234, uint64_t(y) * w + x, pass);
-                s.next2D();
                 sum += s.next1D();
             }
             REQUIRE(img[3 * (y * w + x)] == float(sum * (1.0 / spp)));
@@ -284,7 +284,6 @@ struct CancellingIntegrator : Integrator {
         float v = sampler.next1D();
         if (int(fx) == x && int(fy) == y) {
             Sampler target(seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
-            target.next2D();
             if (target.next1D() == v) flag->store(true);
         }
         return Spectrum(v);

@@ -119,7 +119,7 @@ TEST_CASE("the histogram tests have power against wrong densities", "[support]")
     HistogramOptions fo;
     fo.outsideProbability = std::exp(-1.02 * 3.0);
     HistogramResult ff = intervalHistogramTest(
-        [](Sample2 u) -> std::optional<double> { return sampleFreeFlight(Spectrum(1.0f), u.u); },
+        [](Sample2 u) -> std::optional<double> { return sampleFreeFlight(Spectrum(1.0f), u.u, u.v); },
         [](double t) { return 1.02 * std::exp(-1.02 * t); }, 0.0, 3.0, 40, kSamples, fo);
     report("power: free flight 1 vs pdf 1.02", ff);
     CHECK(ff.chi2.pValue < 1e-6);
@@ -316,7 +316,7 @@ TEST_CASE("free-flight sampling matches its scatter density and pass probability
         long negative = 0, infinite = 0;
         HistogramResult r = intervalHistogramTest(
             [&](Sample2 u) -> std::optional<double> {
-                float t = sampleFreeFlight(c.sigmaT, u.u);
+                float t = sampleFreeFlight(c.sigmaT, u.u, u.v);
                 if (t < 0) ++negative;
                 if (std::isinf(t)) ++infinite;
                 return double(t);
@@ -346,7 +346,7 @@ TEST_CASE("free-flight sampling in a dense medium, bins spaced geometrically", "
     opt.seed = 79;
     opt.outsideProbability = freeFlightPdfPass(sigmaT, float(edges.back()));
     HistogramResult r = intervalHistogramTest(
-        [&](Sample2 u) -> std::optional<double> { return double(sampleFreeFlight(sigmaT, u.u)); },
+        [&](Sample2 u) -> std::optional<double> { return double(sampleFreeFlight(sigmaT, u.u, u.v)); },
         [&](double t) { return double(freeFlightPdfScatter(sigmaT, float(t))); }, edges, kSamples, opt);
     checkHistogram("free flight, grey 8, geometric bins", r, kAlpha);
     CHECK(r.pdfIntegral + opt.outsideProbability == Approx(1.0).epsilon(kIntegralTol));

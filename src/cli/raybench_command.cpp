@@ -126,7 +126,7 @@ RawResult traceRandomRays(const Scene& scene, uint64_t count, int threads) {
     return result;
 }
 
-RenderStats renderOnce(const Scene& scene, const Integrator& integrator, Resolution res, int spp, int threads) {
+RenderStats renderOnce(const Scene& scene, Integrator& integrator, Resolution res, int spp, int threads) {
     RenderOptions options;
     options.width = res.width;
     options.height = res.height;

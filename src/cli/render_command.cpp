@@ -312,7 +312,7 @@ int runRender(const std::vector<std::string>& argv) {
     std::unique_ptr<Integrator> integratorPtr;
     if (a.integrator == "bdpt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);
-    const Integrator& integrator = *integratorPtr;
+    Integrator& integrator = *integratorPtr;
 
     // Checkpoint state: the settings, the film (possibly resumed) and the non-finite samples
     // dropped by earlier runs.

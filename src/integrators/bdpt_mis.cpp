@@ -2,11 +2,10 @@
 
 #include <algorithm>
 
-#include "brume/integrators/equiangular_segment.h"
-#include "brume/integrators/visibility.h"
+#include "brume/integrators/bdpt_equiangular.h"
 #include "brume/sampling/equiangular.h"
-#include "brume/sampling/free_flight.h"
 #include "brume/scene/camera_importance.h"
+#include "brume/scene/light_emission.h"
 
 // Notation (docs/mis.md): the full path x0 (pinhole) … xk (light); strategy (s, t) has camera
 // vertices z_i = x_i, i < t, and light vertices y_i = x(k−i), i < s. With r_m the density
@@ -34,7 +33,7 @@ double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVerte
     if (!aim.valid) return 0.0;
     float dist = length(v.p - p.p);
     if (!(dist > 0)) return 0.0;
-    double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
+    double pff = v.medium->transit(Ray{p.p, (v.p - p.p) / dist, dist}, 0.0f, dist, false, true).fwd;
     if (!(pff > 0)) return 0.0;
     return equiAngularDensity(scene, p, v, aim, st) / pff;
 }
@@ -54,49 +53,6 @@ double variantFactor(const Scene& scene, const PathVertex& prev, const PathVerte
 }
 
 }  // namespace
-
-EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool endsPath) {
-    EquiAngularAim aim;
-    aim.valid = true;
-    aim.anchor = a.p;
-    if (a.kind == VertexKind::Camera) {
-        aim.toCamera = true;
-    } else if (a.kind == VertexKind::Light || (endsPath && a.isSurface() && a.light >= 0)) {
-        const Light& l = scene.lights()[a.light];
-        if (l.kind == LightKind::Directional) return EquiAngularAim{};
-        if (l.kind != LightKind::Triangle) aim.anchor = l.position;
-        aim.clip = &l;
-    }
-    return aim;
-}
-
-// The stand-in: equi-angular over [0, ∞) of the ray from prev's position, no clipping. It is
-// positive wherever the sampler can place v (docs/mis.md), and needs no ray: from the light
-// side the segment's far end is not part of the path. Exact: the segment the sampler would
-// have had, found with a ray cast from prev's offset origin to the first surface.
-double equiAngularDensity(const Scene& scene, const PathVertex& prev, const PathVertex& v, const EquiAngularAim& aim,
-                          MisSettings st) {
-    Vec3 e = v.p - prev.p;
-    float dist = length(e);
-    if (!(dist > 0)) return 0.0;
-    Vec3 d = e / dist;
-    if (!st.exactEquiAngular) return equiAngularPdf(makeEquiAngular(prev.p, d, aim.anchor, 0.0f, kInfinity), dist);
-    bool offset = prev.kind == VertexKind::Surface || (prev.kind == VertexKind::Light && dot(prev.ng, prev.ng) > 0);
-    Vec3 o = offset ? offsetOrigin(prev.p, prev.ng, d) : prev.p;
-    SurfaceHit hit = scene.intersect(Ray{o, d, kInfinity});
-    MediumSegment seg{o, d, hit.valid() ? hit.t : kInfinity, v.medium};
-    EquiAngular ea;
-    if (aim.clip) {
-        if (!equiAngularTowards(scene, *aim.clip, aim.anchor, seg, &ea)) return 0.0;
-    } else if (aim.toCamera) {
-        float a = 0, b = seg.tEnd;
-        if (!clipToFrustum(scene.camera(), st.width, st.height, o, d, &a, &b)) return 0.0;
-        ea = makeEquiAngular(o, d, aim.anchor, a, b);
-    } else {
-        ea = makeEquiAngular(o, d, aim.anchor, 0.0f, seg.tEnd);
-    }
-    return equiAngularPdf(ea, length(v.p - o));
-}
 
 void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings st, double* prefix,
                  double* variant) {
@@ -179,6 +135,71 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
     double c = ownEquiAngular && t >= 2 && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 1.0;
     sum += c * q;
     return sum > 0 ? 1.0 / sum : 0.0;
+}
+
+// The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)
+// and d their distance; every one is (direction density at the vertex that would make it) ×
+// (solid angle → area) × (free flight of that step), as in randomWalk:
+//   z(t−1)  made from y(s−1) (which came from y(s−2), or is on the light): the connection's
+//           free flight towards the camera; for s = 0, z(t−1) lies on the light and would have
+//           been its start: pick · position density;
+//   y(s−1)  made from z(t−1) (which came from z(t−2), or is the pinhole): the connection's
+//           free flight towards the light; 0 on a delta light (no walk can hit it);
+//   z(t−2)  made from z(t−1) arriving from y(s−1) (for s = 0, emitted from the light there);
+//   y(s−2)  made from y(s−1) arriving from z(t−1);
+// the last two over their own edges, whose free flight the walks stored.
+void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t,
+                                const StrategyJoin& join, MisSettings st) {
+    const int W = st.width, H = st.height;
+    PathVertex& z = camera[t - 1];
+    if (s == 0) {
+        const Light& l = scene.lights()[z.light];
+        float pos, dir;
+        emissionPdf(scene, l, z.p, z.ng, z.wo, &pos, &dir);
+        z.pdfRev = scene.lightDistribution().pmf(z.light) * pos;
+        PathVertex& zm = camera[t - 2];
+        zm.pdfRev = solidAngleToArea(zm, z.wo, dir, z.edgeDist) * z.edgeRevFreeFlight;
+        return;
+    }
+    PathVertex& y = light[s - 1];
+    Vec3 w = y.p - z.p;
+    const float d = length(w);
+    w = d > 0 ? w / d : Vec3(0.0f);
+    const bool directional = y.kind == VertexKind::Light && scene.lights()[y.light].kind == LightKind::Directional;
+    if (t >= 2) {
+        if (directional) {
+            // Parallel rays: the emission disk's area density projects onto z(t−1), no 1/d².
+            float pos, dir;
+            emissionPdf(scene, scene.lights()[y.light], y.p, y.ng, -w, &pos, &dir);
+            z.pdfRev = pos * (z.isSurface() ? std::abs(dot(z.ng, w)) : 1.0f) * join.freeFlightToCamera;
+        } else {
+            z.pdfRev = solidAngleToArea(z, w, vertexDirectionPdf(scene, y, y.wo, -w, W, H), d) * join.freeFlightToCamera;
+        }
+        PathVertex& zm = camera[t - 2];
+        zm.pdfRev = solidAngleToArea(zm, z.wo, vertexDirectionPdf(scene, z, w, z.wo, W, H), z.edgeDist) * z.edgeRevFreeFlight;
+    }
+    y.pdfRev = y.kind == VertexKind::Light && y.deltaLight
+                   ? 0.0
+                   : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) * join.freeFlightToLight;
+    if (s >= 2) {
+        PathVertex& ym = light[s - 2];
+        ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H), y.edgeDist) * y.edgeRevFreeFlight;
+    }
+}
+
+double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
+                      MisSettings st, const SubpathMis& lightMis, const SubpathMis& cameraMis) {
+    // The four densities are the subpaths' own outside this connection: put them back after.
+    double saved[4];
+    PathVertex* touched[4] = {&camera[t - 1], t >= 2 ? &camera[t - 2] : nullptr, s >= 1 ? &light[s - 1] : nullptr,
+                              s >= 2 ? &light[s - 2] : nullptr};
+    for (int i = 0; i < 4; ++i)
+        if (touched[i]) saved[i] = touched[i]->pdfRev;
+    connectionReverseDensities(scene, light, s, camera, t, join, st);
+    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed, lightMis, cameraMis);
+    for (int i = 0; i < 4; ++i)
+        if (touched[i]) touched[i]->pdfRev = saved[i];
+    return w;
 }
 
 }  // namespace brume

@@ -1,9 +1,10 @@
 #include "brume/integrators/path_tracer.h"
 
+#include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/mis.h"
+#include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/visibility.h"
-#include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/bsdf.h"
 #include "brume/scene/light_sampling.h"
@@ -64,17 +65,11 @@ float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const M
 bool usesDensity(ConnectMode m, const Light& l) { return m != ConnectMode::EquiAngular || l.kind == LightKind::Directional; }
 bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
 
-// Shadow-ray distance: stop short of an emitting surface so it does not shadow itself; a
-// point has no surface and a directional light is at infinity.
-float shadowDistance(const LightSample& ls) {
-    return ls.isDelta ? ls.dist : ls.dist - rayEpsilon(ls.p);
-}
-
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
-                      Sampler& sampler, PathStats& stats) {
-    float uPick = sampler.next1D();
-    Sample2 uLight = sampler.next2D();
+                      const Sampler& sampler, uint32_t dims, PathStats& stats) {
+    float uPick = sampler.get1D(dims + dim::kPick);
+    Sample2 uLight = sampler.get2D(dims + dim::kLightPoint);
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = scene.lightDistribution().sample(uPick, &pick);
@@ -96,19 +91,19 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
         w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
     }
     if (w == 0) return Spectrum(0.0f);
-    Vec3 o = v.bsdf ? offsetOrigin(v.p, v.ng, ls.wi) : v.p;
-    Spectrum T = transmittanceAlong(scene, o, ls.wi, shadowDistance(ls), media, lightTarget(scene, li), stats);
+    WalkSegment seg = leaving(v.p, v.bsdf ? v.ng : Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, li));
+    Spectrum T = transmittanceAlong(scene, seg, media, stats);
     return f * ls.Le * T * (w / (pick * ls.pdf));
 }
 
 // Strategy C: a light and its anchor first, then t equi-angularly on the segment, then the
 // connection. Returns the estimate to be multiplied by the throughput at the segment start.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
-                           ConnectMode mode, Sampler& sampler, PathStats& stats) {
-    float uPick = sampler.next1D();
-    Sample2 uAnchor = sampler.next2D();
-    float uT = sampler.next1D();
-    Sample2 uLight = sampler.next2D();
+                           ConnectMode mode, const Sampler& sampler, uint32_t dims, uint32_t repeat, PathStats& stats) {
+    float uPick = sampler.get1D(dims + dim::kPick, repeat);
+    Sample2 uAnchor = sampler.get2D(dims + dim::kAnchor, repeat);
+    float uT = sampler.get1D(dims + dim::kEquiAngular, repeat);
+    Sample2 uLight = sampler.get2D(dims + dim::kLightPoint, repeat);
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = scene.lightDistribution().sample(uPick, &pick);
@@ -128,16 +123,18 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
         return Spectrum(0.0f);
     const Medium& m = *seg.medium;
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
-    Spectrum sigmaT = m.sigmaT();
-    origin.pFreeFlight = freeFlightPdfScatter(sigmaT, origin.t);
+    const Ray ray{seg.o, seg.d, seg.tEnd};
+    MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
+    origin.pFreeFlight = float(tr.fwd);
     float pC = pick * ls.pdf * pea;
     float pA = mode == ConnectMode::Mis ? origin.pFreeFlight * pick * ls.pdf : 0.0f;
     float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;
     float w = powerWeight(pC, pA, pB);
     if (w == 0) return Spectrum(0.0f);
-    Spectrum T = transmittanceAlong(scene, x, ls.wi, shadowDistance(ls), media, lightTarget(scene, li), stats);
+    Spectrum T = transmittanceAlong(scene, leaving(x, Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, li)),
+                                    media, stats);
     if (isBlack(T)) return T;
-    return transmittance(sigmaT, origin.t) * m.sigmaS * ls.Le * T * (phase * w / pC);
+    return tr.T * m.sigmaSAt(x) * ls.Le * T * (phase * w / pC);
 }
 
 }  // namespace
@@ -147,10 +144,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const bool nee = options_.nextEventEstimation;
     const ConnectMode mode = options_.connect;
     const int maxDepth = options_.maxDepth < 0 ? 1 << 30 : options_.maxDepth;
-    Ray ray = scene.camera().generateRay(fx, fy, width, height);
+    const Ray cameraRay = scene.camera().generateRay(fx, fy, width, height);
+    WalkSegment ray = leaving(cameraRay.o, Vec3(0.0f), cameraRay.d);
     MediumStack media = scene.cameraMedia();
     Spectrum L(0.0f), beta(1.0f);
-    int depth = 0;                 // scattering events so far
+    int depth = 0;                 // scattering events so far: the index of the last vertex
     bool specularBounce = true;    // the last direction came from a delta distribution (or the camera)
     float prevPdf = 0;             // solid-angle density of the last sampled direction
     Vec3 prevP = ray.o;
@@ -158,44 +156,58 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     bool prevInMedium = false;
 
     for (int guard = 0; guard < 100000; ++guard) {
-        ++stats.rays;
-        SurfaceHit hit = scene.intersect(ray);
-        float tSurface = hit.valid() ? hit.t : kInfinity;
-
-        if (const Medium* m = scene.medium(media.current())) {
-            MediumSegment seg{ray.o, ray.d, tSurface, m};
-            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
-                L += beta * equiAngularDirect(scene, seg, media, mode, sampler, stats);
-
-            // Free-flight sampling. Weight T·σs/p_scatter or T/P_pass, both averaged over the
-            // colour channels (free_flight.h).
-            Spectrum sigmaT = m->sigmaT();
-            float t = sampleFreeFlight(sigmaT, sampler.next1D());
-            if (t < tSurface) {
-                float pff = freeFlightPdfScatter(sigmaT, t);
-                beta *= transmittance(sigmaT, t) * m->sigmaS / pff;
-                if (++depth > maxDepth) break;
-                prevOrigin = MediumOrigin{seg, t, pff};
-                Vertex v;
-                v.p = ray.at(t);
-                v.wo = -ray.d;
-                v.origin = &prevOrigin;
-                if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, stats);
-                Vec3 wi = sampleHG(ray.d, m->g, sampler.next2D());  // phase/pdf = 1
-                prevPdf = hgPhase(dot(ray.d, wi), m->g);
-                prevP = v.p;
-                prevInMedium = true;
-                specularBounce = false;
-                ray = Ray{v.p, wi, kInfinity};
-                if (!isFinite(beta) || isBlack(beta)) break;
-                goto roulette;
+        // The ray leaves vertex `depth`; its pieces between invisible boundaries are walked
+        // one by one, each with the equi-angular strategy and free flight of its own.
+        const uint32_t dims = dim::walkVertex(dim::Side::Camera, depth);
+        const uint32_t eaDims = dim::equiAngularSegment(depth);
+        BoundaryWalk walk(scene, ray, media, stats);
+        BoundaryPiece piece;
+        bool scattered = false;
+        SurfaceHit hit;
+        while (walk.next(&piece)) {
+            hit = piece.hit;
+            const uint32_t repeat = uint32_t(piece.index);
+            const Medium* m = piece.medium;
+            if (!m) {
+                if (piece.boundary) continue;
+                break;
             }
-            if (std::isinf(tSurface)) break;  // flew to infinity through a medium: T = 0
-            beta *= transmittance(sigmaT, tSurface) / freeFlightPdfPass(sigmaT, tSurface);
-        }
-        if (!hit.valid()) break;
+            MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
+            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
+                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, sampler, eaDims, repeat, stats);
 
-        {
+            // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, both averaged
+            // over the colour channels (free_flight.h).
+            MediumSample ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
+                                                sampler.get1D(dims + dim::kChannel, repeat), false);
+            beta *= ms.weight;
+            if (ms.scattered) {
+                scattered = true;
+                prevOrigin = MediumOrigin{seg, ms.t - piece.t0, float(ms.fwd)};
+                break;
+            }
+            if (isBlack(ms.weight)) break;  // flew to infinity through a medium: T = 0
+            if (!piece.boundary) break;
+        }
+        media = walk.media();
+        if (scattered) {
+            if (++depth > maxDepth) break;
+            const Medium* m = prevOrigin.seg.medium;
+            Vertex v;
+            v.p = prevOrigin.seg.o + prevOrigin.seg.d * prevOrigin.t;
+            v.wo = -ray.d;
+            v.origin = &prevOrigin;
+            if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), stats);
+            Vec3 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
+            prevPdf = hgPhase(dot(ray.d, wi), m->g);
+            prevP = v.p;
+            prevInMedium = true;
+            specularBounce = false;
+            ray = leaving(v.p, Vec3(0.0f), wi);
+            if (!isFinite(beta) || isBlack(beta)) break;
+        } else {
+            if (!hit.valid() || piece.boundary || isBlack(beta)) break;
+
             // Emission reached by the camera ray or by BSDF/phase sampling (strategy B).
             Spectrum Le = scene.emission(hit, -ray.d);
             if (!isBlack(Le)) {
@@ -219,44 +231,34 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 L += beta * Le * w;
             }
             if (hit.sphereLight >= 0) break;  // sphere lights are opaque emitters
-
-            const Mesh& mesh = scene.mesh(hit.mesh);
-            const Material& mat = scene.material(hit.mesh);
-            if (mat.kind == MaterialKind::Invisible) {  // index-matched boundary: pass straight on
-                if (mesh.interiorMedium >= 0) media.toggle(mesh.interiorMedium);
-                ray = Ray{hit.p + ray.d * rayEpsilon(hit.p), ray.d, kInfinity};
-                continue;
-            }
             if (++depth > maxDepth) break;
 
-            Spectrum baseColor = mat.baseColor;
-            if (mat.baseColorTexture >= 0) baseColor *= scene.desc().textures[mat.baseColorTexture].lookup(hit.u, hit.v);
-            Bsdf bsdf(mat, baseColor, hit.ng, hit.ns);
+            const Mesh& mesh = scene.mesh(hit.mesh);
+            Bsdf bsdf = scene.surfaceBsdf(hit.mesh, hit.u, hit.v, hit.ng, hit.ns);
             Vertex v;
             v.p = hit.p;
             v.wo = -ray.d;
             v.bsdf = &bsdf;
             v.ng = hit.ng;
-            if (nee && !bsdf.isSpecular()) L += beta * sampleDirect(scene, v, media, mode, sampler, stats);
+            if (nee && !bsdf.isSpecular())
+                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), stats);
 
-            float uLobe = sampler.next1D();
             BsdfSample bs;
-            if (!bsdf.sample(v.wo, uLobe, sampler.next2D(), &bs)) break;
+            if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) break;
             beta *= bs.weight;
             if (bs.transmitted && mesh.interiorMedium >= 0) media.toggle(mesh.interiorMedium);
             specularBounce = bs.specular;
             prevPdf = bs.pdf;
             prevP = hit.p;
             prevInMedium = false;
-            ray = Ray{offsetOrigin(hit.p, hit.ng, bs.wi), bs.wi, kInfinity};
+            ray = leaving(hit.p, hit.ng, bs.wi);
             if (!isFinite(beta) || isBlack(beta)) break;
         }
 
-    roulette:
         // Russian roulette after three events: survive with probability min(0.95, max β).
         if (depth >= 3) {
             float survive = std::min(0.95f, maxComponent(beta));
-            if (sampler.next1D() >= survive) break;
+            if (sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }
     }

@@ -1,18 +1,18 @@
 #include "brume/integrators/random_walk.h"
 
-#include "brume/sampling/free_flight.h"
+#include "brume/integrators/free_flight_walk.h"
 #include "brume/sampling/hg.h"
 
 namespace brume {
 
 // Free-flight densities along an edge prev → next that may cross invisible boundaries into
-// other media (sub-segments k = 1..n):
+// other media (pieces k = 1..n, free_flight_walk.h):
 //   forward  = Π_{k<n} P_pass,k · (next is a medium point ? p_scatter,n : P_pass,n)
 //   reverse  = Π_{k>1} P_pass,k · (prev is a medium point ? p_scatter,1 : P_pass,1)
 // the reverse being the density with which a walk from next back to prev would stop at prev.
 namespace {
 
-int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
          PathVertex* path, int maxVertices, PathStats& stats);
 
 // Directional densities of every edge, from the vertex positions: rays leave surfaces from
@@ -50,7 +50,7 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
 
 }  // namespace
 
-int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats) {
     int count = walk(scene, start, mode, maxScatter, sampler, path, maxVertices, stats);
     edgeDensities(scene, path, count, start.width, start.height);
@@ -59,9 +59,9 @@ int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, i
 
 namespace {
 
-int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
          PathVertex* path, int maxVertices, PathStats& stats) {
-    Ray ray = start.ray;
+    WalkSegment ray = start.ray;
     MediumStack media = start.media;
     Spectrum beta = start.beta;
     float pdfDir = start.pdfDir;
@@ -72,9 +72,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         PathVertex& prev = path[count - 1];
         PathVertex& v = path[count];
         v = PathVertex{};
-        double fwdFF = 1, revFF = 1;
-        float dist = 0;
-        bool firstSub = true, made = false;
+        const uint32_t dims = dim::walkVertex(start.side, count - 1);
         // The ray's own record, kept even if it makes no vertex (see PathVertex::ghost).
         v.edgeOrigin = ray.o;
         v.edgeDir = ray.d;
@@ -82,44 +80,19 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
-        for (int crossings = 0; crossings < 64 && !made; ++crossings) {
-            ++stats.rays;
-            SurfaceHit hit = scene.intersect(ray);
-            float tSurf = hit.valid() ? hit.t : kInfinity;
-            if (firstSub) v.edgeEnd = tSurf;
-            const Medium* m = scene.medium(media.current());
-            if (m) {
-                Spectrum sigmaT = m->sigmaT();
-                float t = sampleFreeFlight(sigmaT, sampler.next1D());
-                if (t < tSurf) {
-                    double pScatter = freeFlightPdfScatter(sigmaT, t);
-                    beta *= transmittance(sigmaT, t) * m->sigmaS / float(pScatter);
-                    fwdFF *= pScatter;
-                    revFF *= firstSub && prev.isMedium() ? pScatter : freeFlightPdfPass(sigmaT, t);
-                    dist += t;
-                    v.kind = VertexKind::Medium;
-                    v.p = ray.at(t);
-                    v.medium = m;
-                    made = true;
-                    break;
-                }
-                if (std::isinf(tSurf)) return count;
-                double pPass = freeFlightPdfPass(sigmaT, tSurf);
-                beta *= transmittance(sigmaT, tSurf) / float(pPass);
-                fwdFF *= pPass;
-                revFF *= firstSub && prev.isMedium() ? freeFlightPdfScatter(sigmaT, tSurf) : pPass;
-            }
-            if (!hit.valid()) return count;
-            dist += hit.t;
-            if (hit.mesh >= 0 && scene.material(hit.mesh).kind == MaterialKind::Invisible) {
-                int interior = scene.mesh(hit.mesh).interiorMedium;
-                if (interior >= 0) media.toggle(interior);
-                float eps = rayEpsilon(hit.p);
-                ray.o = hit.p + ray.d * eps;
-                dist += eps;
-                firstSub = false;
-                continue;
-            }
+        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), sampler, dims, stats);
+        v.edgeEnd = f.firstEnd;
+        if (f.end == Flight::End::Escape) return count;
+        beta *= f.weight;
+        media = f.media;
+        const float dist = f.t;
+        const double fwdFF = f.fwd, revFF = f.rev;
+        if (f.end == Flight::End::Collision) {
+            v.kind = VertexKind::Medium;
+            v.p = ray.o + ray.d * f.t;
+            v.medium = f.medium;
+        } else {
+            const SurfaceHit& hit = f.hit;
             v.kind = VertexKind::Surface;
             v.p = hit.p;
             v.ng = hit.ng;
@@ -129,9 +102,8 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
             v.mesh = hit.mesh;
             v.triangle = hit.triangle;
             v.light = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
-            made = true;
         }
-        if (!made) return count;
+        v.edgeCrossed = f.crossed;
         if (!isFinite(beta) || isBlack(beta)) return count;
 
         v.wo = -ray.d;
@@ -139,7 +111,6 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.beta = beta;
         v.edgeDist = dist;
         v.edgeFwdFreeFlight = fwdFF;
-        v.edgeCrossed = !firstSub;
         v.ghost = false;
         v.edgeRevFreeFlight = revFF;
         v.pdfFwd = solidAngleToArea(v, v.wo, pdfDir, dist) * fwdFF;
@@ -154,13 +125,13 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         Vec3 wi;
         float pdfFwdDir, pdfRevDir;
         if (v.isMedium()) {
-            wi = sampleHG(ray.d, v.medium->g, sampler.next2D());  // phase/pdf = 1
+            wi = sampleHG(ray.d, v.medium->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
             pdfFwdDir = pdfRevDir = hgPhase(dot(ray.d, wi), v.medium->g);
         } else {
             Bsdf bsdf = vertexBsdf(scene, v);
-            float uLobe = sampler.next1D();
             BsdfSample bs;
-            if (!bsdf.sample(v.wo, uLobe, sampler.next2D(), &bs, mode)) return count;
+            if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs, mode))
+                return count;
             wi = bs.wi;
             Spectrum w = bs.weight;
             if (mode == TransportMode::Importance) w *= shadingNormalCorrection(v.wo, wi, v.ng, v.ns);
@@ -182,10 +153,10 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         // (≫ 1), and without the scale it would only ever stop at the 0.95 cap.
         if (count >= 4) {
             float survive = std::min(0.95f, maxComponent(beta) / rrScale);
-            if (sampler.next1D() >= survive) return count;
+            if (sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         }
-        ray = Ray{v.isSurface() ? v.p + (dot(v.ng, wi) >= 0 ? v.ng : -v.ng) * rayEpsilon(v.p) : v.p, wi, kInfinity};
+        ray = leaving(v.p, v.isSurface() ? v.ng : Vec3(0.0f), wi);
         pdfDir = pdfFwdDir;
     }
     return count;

@@ -1,5 +1,7 @@
 #include "brume/render/renderer.h"
 
+#include "brume/integrators/sample_dimensions.h"
+
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
@@ -72,7 +74,7 @@ private:
 // The worker pool for one render() call.
 class PassRunner {
 public:
-    PassRunner(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+    PassRunner(const Scene& scene, Integrator& integrator, const RenderOptions& options, Film& film,
                int threadCount, const std::atomic<bool>* drop)
         : scene_(scene),
           integrator_(integrator),
@@ -100,6 +102,7 @@ public:
 
     // Starts pass `pass` on all workers and returns at once.
     void startPass(int pass) {
+        integrator_.beginPass(scene_, pass);
         std::lock_guard<std::mutex> lock(mutex_);
         pass_ = pass;
         nextTile_.store(0);
@@ -119,6 +122,9 @@ public:
     bool finishPass(RenderStats& stats) {
         if (error_) std::rethrow_exception(error_);
         const bool complete = tilesDone() == tileCount();
+        PassSummary summary;
+        summary.pass = pass_;
+        summary.complete = complete;
         if (complete) {
             const int width = options_.width;
             for (int y = 0; y < options_.height; ++y)
@@ -126,8 +132,9 @@ public:
             for (const TileCounters& c : tileCounters_) {
                 stats.samples += c.samples;
                 stats.nonFinite += c.nonFinite;
-                stats.rays += c.path.rays;
+                summary.totals.add(c.path);
             }
+            stats.rays += summary.totals.rays;
         }
         for (SplatList& list : tileSplats_) {
             if (complete) {
@@ -136,6 +143,7 @@ public:
             }
             list.clear();
         }
+        integrator_.endPass(scene_, summary);
         return complete;
     }
 
@@ -189,7 +197,7 @@ private:
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
                 Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
-                Sample2 jitter = sampler.next2D();
+                Sample2 jitter = sampler.get2D(dim::kFilmJitter);
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
                                                                      counters.path, tileSplats_[size_t(tile)])
@@ -206,7 +214,7 @@ private:
     }
 
     const Scene& scene_;
-    const Integrator& integrator_;
+    Integrator& integrator_;
     const SplattingIntegrator* splatter_;
     const RenderOptions& options_;
     Film& film_;
@@ -230,7 +238,7 @@ private:
 
 }  // namespace
 
-RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptions& options, Film& film,
                    const RenderControl& control) {
     if (options.width != film.width() || options.height != film.height())
         throw std::invalid_argument("render size " + std::to_string(options.width) + "x" +
@@ -285,7 +293,7 @@ RenderStats render(const Scene& scene, const Integrator& integrator, const Rende
     return stats;
 }
 
-RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptions& options, Film& film,
                    const std::atomic<bool>* cancel) {
     RenderControl control;
     control.cancel = cancel;

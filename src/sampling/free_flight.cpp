@@ -4,12 +4,10 @@
 
 namespace brume {
 
-float sampleFreeFlight(Spectrum sigmaT, float u) {
-    int c = std::min(2, int(u * 3.0f));
-    float v = u * 3.0f - float(c);  // remaining uniform in [0,1)
-    float s = sigmaT[c];
+float sampleFreeFlight(Spectrum sigmaT, float uDistance, float uChannel) {
+    float s = sigmaT[std::min(2, int(uChannel * 3.0f))];
     if (s <= 0) return std::numeric_limits<float>::infinity();
-    return -std::log1p(-v) / s;
+    return -std::log1p(-uDistance) / s;
 }
 
 namespace {

@@ -133,7 +133,7 @@ static RTCRayHit toEmbree(const Ray& ray) {
     rh.ray.dir_x = ray.d.x;
     rh.ray.dir_y = ray.d.y;
     rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = 0.0f;
+    rh.ray.tnear = ray.tmin;
     rh.ray.tfar = ray.tmax;
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.time = 0.0f;
@@ -154,7 +154,7 @@ SurfaceHit Scene::intersect(const Ray& ray) const {
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) tClosest = rh.ray.tfar;
     for (int li : sphereLights_) {
         float t;
-        if (intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, tClosest, &t)) {
+        if (intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, tClosest, &t, ray.tmin)) {
             tClosest = t;
             hit.sphereLight = li;
         }
@@ -200,7 +200,7 @@ SurfaceHit Scene::intersect(const Ray& ray) const {
 bool Scene::occluded(const Ray& ray, int ignoreLight) const {
     for (int li : sphereLights_) {
         float t;
-        if (li != ignoreLight && intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, ray.tmax, &t))
+        if (li != ignoreLight && intersectSphere(ray.o, ray.d, lights_[li].position, lights_[li].radius, ray.tmax, &t, ray.tmin))
             return true;
     }
     RTCIntersectContext context;
@@ -226,6 +226,13 @@ Spectrum Scene::emission(const SurfaceHit& hit, Vec3 w) const {
     Spectrum L = m.emission;
     if (m.emissiveTexture >= 0) L *= desc_.textures[m.emissiveTexture].lookup(hit.u, hit.v);
     return L;
+}
+
+Bsdf Scene::surfaceBsdf(int mesh, float u, float v, Vec3 ng, Vec3 ns) const {
+    const Material& m = material(mesh);
+    Spectrum base = m.baseColor;
+    if (m.baseColorTexture >= 0) base *= desc_.textures[m.baseColorTexture].lookup(u, v);
+    return Bsdf(m, base, ng, ns);
 }
 
 MediumStack Scene::lightMedia(int index, bool back) const {

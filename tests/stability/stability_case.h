@@ -116,7 +116,7 @@ inline const Weakness* findWeakness(const StabilityCase& sc, const Method& m) {
 // A method costing more than kCostRatio × its cost on the twin per sample (4 spp each) fails
 // and is not rendered in full: that could take hours.
 inline bool costWithinTwin(const StabilityCase& sc, const Scene& scene, const Scene& twin, const Method& method,
-                           const Integrator& integrator) {
+                           Integrator& integrator) {
     double tTwin = renderBatches(twin, integrator, kWidth, kHeight, 4, 1, 99, kBlock).seconds;
     double tCase = renderBatches(scene, integrator, kWidth, kHeight, 4, 1, 99, kBlock).seconds;
     printCost(sc.name, method.name(), tCase / tTwin);

@@ -25,7 +25,7 @@ struct StabilityRun {
 };
 
 // One thread per render: the suite runs its cases in parallel (ctest -j).
-inline StabilityRun renderBatches(const Scene& scene, const Integrator& integrator, int width, int height,
+inline StabilityRun renderBatches(const Scene& scene, Integrator& integrator, int width, int height,
                                   int sppPerBatch, int batches, uint64_t seed, int block) {
     StabilityRun run;
     run.width = width, run.height = height, run.block = block, run.batches = batches, run.sppPerBatch = sppPerBatch;

@@ -12,7 +12,7 @@
 namespace brume::test {
 
 // With block > 1, estimates are of block × block pixel averages (row-major over blocks).
-inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, const Integrator& integrator, int width,
+inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator& integrator, int width,
                                                int height, int sppPerBatch, int batches, uint64_t seed,
                                                int block = 1) {
     const int bw = width / block, bh = height / block;
@@ -41,6 +41,12 @@ inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, const Integra
         }
     }
     return px;
+}
+
+// The same for an integrator made for these renders alone.
+inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator&& integrator, int width, int height,
+                                               int sppPerBatch, int batches, uint64_t seed, int block = 1) {
+    return estimateFilm(scene, integrator, width, height, sppPerBatch, batches, seed, block);
 }
 
 }  // namespace brume::test

@@ -1,6 +1,7 @@
 // Bidirectional path tracing in participating media (`--integrator bdpt`): a camera subpath
-// and a light subpath, every (s, t) connection strategy, MIS over all of them with densities
-// that include the free-flight sampling in both directions. docs/mis.md derives the weights.
+// and a light subpath (bdpt_subpaths.h), every (s, t) connection strategy (bdpt_strategies.h),
+// MIS over all of them with densities that include the free-flight sampling in both
+// directions (bdpt_mis.h). docs/mis.md derives the weights.
 #pragma once
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
@@ -41,14 +42,30 @@ struct BdptOptions {
     const BdptObserver* observer = nullptr;
 };
 
+// Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
+// estimate), by variant: the statistics that flow back through the pass hooks, deterministic
+// for any thread count (PathStats::counters, summed in tile order).
+enum class StrategyKind : int { EmitterHit, LightConnection, CameraConnection, SubpathConnection };
+struct StrategyCounts {
+    uint64_t freeFlight[4] = {}, equiAngular[4] = {};  // by StrategyKind
+};
+// The PathStats counter a strategy's contribution counts in.
+inline int strategyCounter(StrategyKind kind, bool equiAngular) { return int(kind) + (equiAngular ? 4 : 0); }
+
 class BdptIntegrator : public SplattingIntegrator {
 public:
     explicit BdptIntegrator(BdptOptions options) : options_(options) {}
     Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                               PathStats& stats, SplatList& splats) const override;
+    void endPass(const Scene& scene, const PassSummary& summary) override;
+
+    // The counts of the last complete pass, and of all complete passes so far.
+    const StrategyCounts& lastPassCounts() const { return lastPass_; }
+    const StrategyCounts& totalCounts() const { return total_; }
 
 private:
     BdptOptions options_;
+    StrategyCounts lastPass_, total_;
 };
 
 }  // namespace brume

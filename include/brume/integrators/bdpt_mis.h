@@ -20,23 +20,6 @@ struct MisSettings {
     int width = 0, height = 0;  // the film, for clipping to the view frustum
 };
 
-// What equi-angular sampling towards vertex `a` aims at: a light vertex, or the camera walk's
-// hit on an emitter that ends the path (endsPath), aims at its light's anchor and is clipped
-// to what the light can reach; the pinhole at itself, clipped to the frustum; any other
-// vertex at itself. valid = false for a directional light, which has no position.
-struct EquiAngularAim {
-    bool valid = false;
-    Vec3 anchor;
-    const Light* clip = nullptr;  // light whose cone / front half-space clips the segment
-    bool toCamera = false;        // clip to the view frustum
-};
-EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool endsPath);
-
-// The equi-angular density (per unit length) with which medium vertex v is placed on the ray
-// from prev aimed at `aim`, as the weights use it (stand-in or exact, by settings).
-double equiAngularDensity(const Scene& scene, const PathVertex& prev, const PathVertex& v, const EquiAngularAim& aim,
-                          MisSettings settings);
-
 // What misWeight needs of one subpath, from the densities its walk stored (n vertices):
 // prefix[j] = Σ_{i ≤ j} Π_{m=i..j} r_m^β · V_i (camera: i ≥ 1; light: i ≥ 0) and the variant
 // factors V. misWeight reads prefix[t−3] (camera) and prefix[s−3] (light), which no
@@ -48,10 +31,28 @@ struct SubpathMis {
 void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings settings,
                  double* prefix, double* variant);
 
-// The weight of the strategy (s, t) for the joined subpaths, whose four vertices next to the
-// connection already carry this connection's reverse densities. ownEquiAngular: the sample is
-// the equi-angular variant. connectionCrossed: the connecting segment crossed an invisible
-// boundary. For s = 1 (a fresh light sample joined) lightMis is not read.
+// What a strategy's weight needs of the connection it made between y(s−1) and z(t−1).
+struct StrategyJoin {
+    double freeFlightToCamera = 1;  // a walk y(s−1) → z(t−1) stopping at z(t−1) (Connection::freeFlightToA)
+    double freeFlightToLight = 1;   // a walk z(t−1) → y(s−1) stopping at y(s−1) (Connection::freeFlightToB)
+    bool crossed = false;           // the connecting segment crossed an invisible boundary
+    bool equiAngular = false;       // the sample is the strategy's equi-angular variant
+};
+
+// The weight of the strategy (s, t) for the joined subpaths (for s = 1 `light` is the sampled
+// light vertex alone, and lightMis is not read). The reverse densities of the four vertices
+// next to the connection, which only this connection determines, are set for the weight and
+// put back after (connectionReverseDensities).
+double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
+                      MisSettings settings, const SubpathMis& lightMis, const SubpathMis& cameraMis);
+
+// Sets pdfRev of z(t−1), z(t−2), y(s−1), y(s−2) (those that exist) to the densities with which
+// the other subpath's walk, continued through the connection, would have made them.
+void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t,
+                                const StrategyJoin& join, MisSettings settings);
+
+// The weight for joined subpaths whose four vertices next to the connection already carry its
+// reverse densities (strategyWeight calls this; the weight checker's derivation follows it).
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
                  MisSettings settings, bool ownEquiAngular, bool connectionCrossed, const SubpathMis& lightMis,
                  const SubpathMis& cameraMis);

@@ -8,18 +8,38 @@ namespace brume {
 
 class Scene;
 
-// Per-thread counters, summed by the renderer for the summary line.
+// Counters of the samples of one work unit (a tile of a pass). The renderer keeps one per
+// tile and sums them in tile order once the pass is complete: rays for the summary line, and
+// counters for the integrator's own statistics (its endPass), the same for any thread count.
 struct PathStats {
-    uint64_t rays = 0;  // closest-hit and shadow rays traced
+    static constexpr int kCounters = 8;
+    uint64_t rays = 0;                     // closest-hit and shadow rays traced
+    uint64_t counters[kCounters] = {};     // integrator-defined
+    void add(const PathStats& o) {
+        rays += o.rays;
+        for (int i = 0; i < kCounters; ++i) counters[i] += o.counters[i];
+    }
+};
+
+// A pass as its integrator hears of it after the fact.
+struct PassSummary {
+    int pass = 0;
+    bool complete = false;  // false: abandoned, its samples thrown away
+    PathStats totals;       // its tiles' counters, summed in tile order (complete passes only)
 };
 
 class Integrator {
 public:
     virtual ~Integrator() = default;
     // Radiance estimate through film point (fx, fy) in pixels, top-left origin, for an image
-    // of width × height. Uses only `sampler` for randomness.
+    // of width × height. Uses only `sampler` for randomness. Called from many threads at once.
     virtual Spectrum sample(const Scene& scene, float fx, float fy, int width, int height,
                             Sampler& sampler, PathStats& stats) const = 0;
+    // Called on the renderer's thread, while no sample runs: before the first sample of pass
+    // `pass` and after its last. What the integrator keeps from pass to pass (statistics that
+    // steer later passes) changes only here, so every sample of a pass sees the same state.
+    virtual void beginPass(const Scene& scene, int pass) {}
+    virtual void endPass(const Scene& scene, const PassSummary& summary) {}
 };
 
 }  // namespace brume

@@ -71,11 +71,6 @@ namespace brume {
 float vertexDirectionPdf(const Scene& scene, const PathVertex& v, Vec3 wFrom, Vec3 wTo, int width, int height);
 
 // The BSDF of a surface vertex (base colour texture applied).
-inline Bsdf vertexBsdf(const Scene& scene, const PathVertex& v) {
-    const Material& m = scene.material(v.mesh);
-    Spectrum base = m.baseColor;
-    if (m.baseColorTexture >= 0) base *= scene.desc().textures[m.baseColorTexture].lookup(v.u, v.v);
-    return Bsdf(m, base, v.ng, v.ns);
-}
+inline Bsdf vertexBsdf(const Scene& scene, const PathVertex& v) { return scene.surfaceBsdf(v.mesh, v.u, v.v, v.ng, v.ns); }
 
 }  // namespace brume

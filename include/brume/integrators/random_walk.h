@@ -2,16 +2,19 @@
 // vertex with its forward and reverse area densities (path_vertex.h).
 #pragma once
 #include "brume/integrators/integrator.h"
+#include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/path_vertex.h"
+#include "brume/integrators/sample_dimensions.h"
 
 namespace brume {
 
 struct WalkStart {
-    Ray ray;             // leaving path[0]
+    WalkSegment ray;     // leaving path[0] (boundary_walk.h: leaving())
     MediumStack media;   // media the ray starts in
     Spectrum beta;       // throughput after path[0] and the direction choice
     float pdfDir = 0;    // solid-angle density of ray.d at path[0]
     int width = 0, height = 0;  // the image, for the camera's direction density
+    dim::Side side = dim::Side::Camera;  // whose dimensions the walk reads (sample_dimensions.h)
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],
@@ -19,7 +22,7 @@ struct WalkStart {
 // not invisible boundaries, and medium points); stops at an escape, a sphere light, a black
 // throughput or Russian roulette (from the fourth vertex on). Returns the vertex count,
 // path[0] included.
-int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, Sampler& sampler,
+int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats);
 
 }  // namespace brume

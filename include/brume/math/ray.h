@@ -1,4 +1,5 @@
-// A ray o + t·d, t in [0, tmax). d is unit length.
+// A ray o + t·d, t in [tmin, tmax). d is unit length. tmin > 0 lets a walk step past a
+// surface it crossed while keeping its origin (integrators/boundary_walk.h).
 #pragma once
 #include <limits>
 #include "brume/math/vec3.h"
@@ -11,6 +12,7 @@ struct Ray {
     Vec3 o;
     Vec3 d;
     float tmax = kInfinity;
+    float tmin = 0;
     Vec3 at(float t) const { return o + d * t; }
 };
 

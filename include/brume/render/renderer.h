@@ -69,10 +69,16 @@ struct RenderControl {
 // count as black) and counted, for the completed passes only. Throws std::invalid_argument
 // for bad options (film size mismatch, spp < 1 without a time budget, negative threads) and
 // rethrows anything an integrator or afterPass throws.
-RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+// The integrator hears of every pass through beginPass/endPass.
+RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptions& options, Film& film,
                    const RenderControl& control);
 // The same with only a cancel flag (the pass in flight is finished).
-RenderStats render(const Scene& scene, const Integrator& integrator, const RenderOptions& options, Film& film,
+RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptions& options, Film& film,
                    const std::atomic<bool>* cancel = nullptr);
+// An integrator made for this render alone.
+inline RenderStats render(const Scene& scene, Integrator&& integrator, const RenderOptions& options, Film& film,
+                          const std::atomic<bool>* cancel = nullptr) {
+    return render(scene, integrator, options, film, cancel);
+}
 
 }  // namespace brume

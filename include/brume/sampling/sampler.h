@@ -1,6 +1,9 @@
-// Every random number a sample uses comes from a Sampler, dimension by dimension, so a
-// low-discrepancy sampler can later replace this independent one. A stream is keyed by
-// (seed, pixel, pass): the image does not depend on which thread renders which pixel.
+// Random numbers for one pixel sample, asked for by place: every sampling decision names the
+// dimension it reads (integrators/sample_dimensions.h keeps the table), so the number a
+// decision gets does not depend on how many numbers other decisions drew before it. That is
+// what a low-discrepancy sampler needs; behind this interface today is PCG32, keyed by
+// (seed, pixel, pass, dimension): the image does not depend on which thread renders which
+// pixel, and a light subpath does not depend on the camera subpath's length.
 #pragma once
 #include <cstdint>
 
@@ -39,19 +42,52 @@ struct Sample2 {
     float u, v;
 };
 
-class Sampler {
+// Uniform in [0, 1) from 32 random bits: 24 of them, so the result is never rounded up to 1.
+inline float toUnitFloat(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
+
+// A sequential stream of uniform numbers (tests, tools, and anything that is not a pixel
+// sample's decision).
+class Rng {
 public:
-    Sampler(uint64_t seed, uint64_t pixel, uint64_t pass)
-        : rng_(mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))) {}
-    // Uniform in [0, 1): 24 random bits, so the result is never rounded up to 1.
-    float next1D() { return float(rng_.next() >> 8) * 0x1p-24f; }
+    Rng(uint64_t state, uint64_t stream) : pcg_(state, stream) {}
+    float next1D() { return toUnitFloat(pcg_.next()); }
     Sample2 next2D() {
         float u = next1D();
         return {u, next1D()};
     }
 
 private:
-    Pcg32 rng_;
+    Pcg32 pcg_;
+};
+
+class Sampler {
+public:
+    Sampler(uint64_t seed, uint64_t pixel, uint64_t pass)
+        : key_(mixBits(seed ^ mixBits(pixel))),
+          stream_(mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))),
+          sequential_(key_, stream_) {}
+
+    // The number at dimension `dim`. `repeat` > 0: the repeat-th further draw of a decision
+    // that may draw a variable number of times (invisible-boundary pieces, tracking steps),
+    // from a hashed stream seeded by its dimension; repeat 0 is the dimension itself.
+    float get1D(uint32_t dim, uint32_t repeat = 0) const {
+        // Every key goes through the hash into the state: PCG32 streams that differ only in
+        // their increment start from states a fixed offset apart, and their first outputs
+        // are correlated (passes would be, dimension by dimension).
+        uint64_t d = uint64_t(dim) | (uint64_t(repeat) << 32);
+        return toUnitFloat(Pcg32(mixBits(key_ ^ mixBits(d ^ stream_)), stream_).next());
+    }
+    // Dimensions dim and dim + 1.
+    Sample2 get2D(uint32_t dim, uint32_t repeat = 0) const { return {get1D(dim, repeat), get1D(dim + 1, repeat)}; }
+
+    // A sequential stream of this pixel sample's own, disjoint from the dimensions above: for
+    // tests and tools, never for an integrator's decisions.
+    float next1D() { return sequential_.next1D(); }
+    Sample2 next2D() { return sequential_.next2D(); }
+
+private:
+    uint64_t key_, stream_;
+    Rng sequential_;
 };
 
 }  // namespace brume

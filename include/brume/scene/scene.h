@@ -9,6 +9,7 @@
 
 #include "brume/math/ray.h"
 #include "brume/sampling/distribution1d.h"
+#include "brume/scene/bsdf.h"
 #include "brume/scene/scene_description.h"
 
 namespace brume {
@@ -65,6 +66,9 @@ public:
     int triangleLight(int mesh, int triangle) const;
     // Emitted radiance leaving a surface point towards direction w (unit, away from it).
     Spectrum emission(const SurfaceHit& hit, Vec3 w) const;
+    // The BSDF at a point of mesh `mesh` (texture coordinates u, v; normals as in SurfaceHit),
+    // its base colour texture applied.
+    Bsdf surfaceBsdf(int mesh, float u, float v, Vec3 ng, Vec3 ns) const;
 
     // The media at point p, by counting crossings of each medium boundary (odd = inside).
     MediumStack mediaAt(Vec3 p) const;

@@ -1,0 +1,40 @@
+// The strategies of the bidirectional tracer, one function each (docs/mis.md). A strategy
+// (s, t) joins the light subpath's first s vertices y0 … y(s−1) with the camera subpath's
+// first t vertices z0 … z(t−1):
+//   s = 0        the camera subpath reached an emitter by itself;
+//   s = 1        light connection: a fresh light sample joined to z(t−1);
+//   t = 1        camera connection: y(s−1) joined to the pinhole, splatted (light tracing);
+//   s, t ≥ 2     a deterministic connection between y(s−1) and z(t−1).
+// Each but s = 0 comes in two variants: free flight (the subpaths' own vertices) and, with
+// --connect equiangular|mis, equi-angular (z(t−1), or for t = 1 y(s−1), moved along the ray
+// its walk traced towards the other subpath). Every function returns the weighted estimate of
+// both variants; the weights come from strategyWeight (bdpt_mis.h).
+#pragma once
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/bdpt_mis.h"
+
+namespace brume {
+
+// Everything a strategy reads: the two subpaths of this sample, their MIS prefixes, and where
+// its numbers come from.
+struct StrategyContext {
+    const Scene& scene;
+    const BdptOptions& options;
+    MisSettings mis;
+    PathVertex* camera;
+    int nCamera;
+    PathVertex* light;
+    int nLight;
+    SubpathMis cameraMis, lightMis;
+    bool weighted;  // false: unweighted (BdptOptions::onlyS without `weighted`)
+    const Sampler& sampler;
+    PathStats& stats;
+    int width, height;
+};
+
+Spectrum emitterHit(const StrategyContext& c, int t);
+Spectrum lightConnection(const StrategyContext& c, int t);
+void cameraConnection(const StrategyContext& c, int s, SplatList& splats);
+Spectrum subpathConnection(const StrategyContext& c, int s, int t);
+
+}  // namespace brume

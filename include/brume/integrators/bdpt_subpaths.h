@@ -1,0 +1,31 @@
+// The two subpaths of a bidirectional sample: the camera subpath z0 (the pinhole) … and the
+// light subpath y0 (a point on a light) …, each traced by randomWalk with its densities, and
+// the light vertex y0 itself, which the light connection (s = 1) also makes from a fresh light
+// sample.
+#pragma once
+#include "brume/integrators/path_vertex.h"
+
+namespace brume {
+
+class Sampler;
+struct PathStats;
+
+constexpr int kMaxSubpathVertices = 1024;  // per subpath; Russian roulette ends paths long before
+
+// Light vertex on light `li` (picked with probability `pick`) at p, with surface normal n on
+// the emitting side (zero for point, spot and directional lights) and emission position
+// density pdfPos: its kind, texture coordinates, media (the side n faces), pdfFwd
+// (pick·pdfPos; pick alone for a directional light, whose position density moves to y1)
+// and beta = 1/pdfFwd.
+PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos);
+
+// Camera subpath through film position (fx, fy); at most maxScatter scattering events (plus
+// a last vertex on an emitter). Returns the vertex count, z0 included.
+int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter,
+                       const Sampler& sampler, PathVertex* path, PathStats& stats);
+
+// Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
+// reaches nothing).
+int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler, PathVertex* path, PathStats& stats);
+
+}  // namespace brume

@@ -1,0 +1,30 @@
+// Free flight from a vertex along a ray through the scene's media and invisible boundaries:
+// one Medium::sampleDistance per piece of the ray (boundary_walk.h) until a collision, a
+// surface or an escape. The bidirectional walks use it for every edge; the densities of both
+// walk directions are the products over the pieces.
+#pragma once
+#include "brume/integrators/boundary_walk.h"
+#include "brume/integrators/sample_dimensions.h"
+
+namespace brume {
+
+struct Flight {
+    enum class End { Collision, Surface, Escape };
+    End end = End::Escape;
+    float t = 0;                     // along the segment: the collision or the surface hit
+    SurfaceHit hit;                  // End::Surface
+    const Medium* medium = nullptr;  // End::Collision: where it happened
+    MediumStack media;               // the media where the flight ended
+    Spectrum weight{1.0f};           // product of the pieces' throughput weights
+    double fwd = 1, rev = 1;         // free-flight densities: this flight's, and a walk back's
+    bool crossed = false;            // passed an invisible boundary
+    float firstEnd = kInfinity;      // where the segment's first piece ends
+};
+
+// Along seg (a ray: leaving(), end +∞). startIsPoint: it starts at a medium vertex (the
+// reverse walk would scatter there). Numbers: dims + kDistance and dims + kChannel, with the
+// piece index as repeat.
+Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
+                    const Sampler& sampler, uint32_t dims, PathStats& stats);
+
+}  // namespace brume

@@ -1,0 +1,293 @@
+#include "brume/integrators/bdpt_strategies.h"
+
+#include "brume/integrators/bdpt_equiangular.h"
+#include "brume/integrators/bdpt_subpaths.h"
+#include "brume/integrators/sample_dimensions.h"
+#include "brume/integrators/visibility.h"
+#include "brume/sampling/hg.h"
+#include "brume/scene/camera_importance.h"
+#include "brume/scene/light_emission.h"
+#include "brume/scene/light_sampling.h"
+
+namespace brume {
+
+namespace {
+
+// Puts a vertex in place of another for one variant and the original back when it ends.
+class VertexSwap {
+public:
+    ~VertexSwap() {
+        if (target_) *target_ = saved_;
+    }
+    void set(PathVertex* target, const PathVertex& v) {
+        target_ = target;
+        saved_ = *target;
+        *target = v;
+    }
+
+private:
+    PathVertex* target_ = nullptr;
+    PathVertex saved_;
+};
+
+// A SurfaceHit describing a surface or light vertex, for emission and textures.
+SurfaceHit vertexHit(const PathVertex& v) {
+    SurfaceHit h;
+    h.p = v.p;
+    h.ng = v.ng;
+    h.ns = v.ns;
+    h.u = v.u;
+    h.v = v.v;
+    h.mesh = v.mesh;
+    h.triangle = v.triangle;
+    if (v.mesh < 0) h.sphereLight = v.light;
+    return h;
+}
+
+// Emission leaving a light vertex, or a surface vertex on an emitter, in direction w:
+// radiance for area and sphere lights, intensity (with the spot cone) for point and spot.
+Spectrum emitted(const Scene& scene, const PathVertex& v, Vec3 w) {
+    const Light& l = scene.lights()[v.light];
+    switch (l.kind) {
+    case LightKind::Point: return l.intensity;
+    case LightKind::Spot: return l.intensity * spotAttenuation(l, dot(w, l.direction));
+    case LightKind::Directional: return l.intensity;
+    default: return scene.emission(vertexHit(v), w);
+    }
+}
+
+// f·|cos| (surface), phase (medium) for light arriving from wLight and leaving along wCamera
+// towards the camera side. Light subpaths evaluate the adjoint (shading-normal correction).
+Spectrum scatter(const Scene& scene, const PathVertex& v, Vec3 wCamera, Vec3 wLight, TransportMode mode) {
+    if (v.isMedium()) return Spectrum(hgPhase(dot(-wCamera, wLight), v.medium->g));
+    Bsdf bsdf = vertexBsdf(scene, v);
+    if (mode == TransportMode::Radiance) return bsdf.eval(wCamera, wLight);
+    // Light subpath: wo = v.wo points to the light side, the connection to the camera side.
+    return bsdf.eval(wLight, wCamera) * shadingNormalCorrection(wLight, wCamera, v.ng, v.ns);
+}
+
+// The media on the side of a vertex that direction w leaves into.
+MediumStack mediaTowards(const Scene& scene, const PathVertex& v, Vec3 w) {
+    MediumStack m = v.media;
+    if (v.isSurface() && v.mesh >= 0) {
+        int interior = scene.mesh(v.mesh).interiorMedium;
+        if (interior >= 0 && dot(v.wo, v.ng) * dot(w, v.ng) < 0) m.toggle(interior);
+    }
+    return m;
+}
+
+// Sphere lights are opaque emitters: a path that reaches one ends there.
+bool scatters(const PathVertex& v) { return v.isMedium() || (v.isSurface() && v.mesh >= 0 && !v.delta); }
+
+// Direction from path[i] back to path[i − 1] (its own wo at a subpath's start).
+Vec3 towardsPrevious(const PathVertex* path, int i) {
+    return i >= 1 ? normalize(path[i - 1].p - path[i].p) : path[i].wo;
+}
+
+bool onSurfaceOrAreaLight(const PathVertex& v) {
+    return v.kind == VertexKind::Surface || (v.kind == VertexKind::Light && dot(v.ng, v.ng) > 0);
+}
+
+// The surface normal a segment leaving v starts from (zero: v is not on a surface).
+Vec3 surfaceNormal(const PathVertex& v) { return onSurfaceOrAreaLight(v) ? v.ng : Vec3(0.0f); }
+
+// Transmittance and free-flight densities between camera-side z and light-side y, and what
+// the weight needs of them.
+Connection connectVertices(const Scene& scene, const PathVertex& z, const PathVertex& y, PathStats& stats) {
+    Vec3 d = y.p - z.p;
+    float dist = length(d);
+    if (!(dist > 0)) return Connection{};
+    d /= dist;
+    ShadowTarget target;
+    if (y.light >= 0 && y.mesh < 0) target.sphereLight = y.light;
+    if (y.mesh >= 0) target.mesh = y.mesh, target.triangle = y.triangle;
+    return connectPoints(scene, leaving(z.p, surfaceNormal(z), d, dist, onSurfaceOrAreaLight(y), target),
+                         mediaTowards(scene, z, d), z.isMedium(), y.isMedium(), stats);
+}
+
+StrategyJoin joinOf(const Connection& conn, bool equiAngular) {
+    return StrategyJoin{conn.freeFlightToA, conn.freeFlightToB, conn.crossed, equiAngular};
+}
+
+// Whether a connection's free-flight variant runs: the vertex must scatter, and where the
+// equi-angular variant could have made the same medium vertex, --connect equiangular has it
+// replace the free-flight one.
+bool freeFlightVariantOn(ConnectMode mode, bool real, const PathVertex& v, bool equiAngularOn) {
+    return real && scatters(v) && !(mode == ConnectMode::EquiAngular && equiAngularOn && v.isMedium() && !v.edgeCrossed);
+}
+
+// Variant 0 (free flight) or 1 (equi-angular), as BdptOptions::onlyVariant allows.
+bool variantWanted(const StrategyContext& c, int variant, bool on) {
+    return on && (c.options.onlyVariant < 0 || c.options.onlyVariant == variant);
+}
+
+// A nonzero weighted estimate of a strategy, counted for the pass statistics.
+Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, Spectrum value) {
+    if (!isBlack(value)) ++c.stats.counters[strategyCounter(kind, equiAngular)];
+    return value;
+}
+
+// The weight of the joined sample, told to the observer; 1 when unweighted.
+float weigh(const StrategyContext& c, PathVertex* light, int s, int t, const StrategyJoin& join) {
+    if (!c.weighted) return 1.0f;
+    float w = float(strategyWeight(c.scene, light, s, c.camera, t, join, c.mis, c.lightMis, c.cameraMis));
+    if (c.options.observer) c.options.observer->onWeight(light, s, c.camera, t, w, join.equiAngular);
+    return w;
+}
+
+}  // namespace
+
+Spectrum emitterHit(const StrategyContext& c, int t) {
+    const PathVertex& z = c.camera[t - 1];
+    if (!variantWanted(c, 0, t <= c.nCamera && z.light >= 0 && z.isSurface())) return Spectrum(0.0f);
+    Spectrum contrib = z.beta * emitted(c.scene, z, z.wo);
+    if (isBlack(contrib)) return contrib;
+    float w = weigh(c, c.light, 0, t, StrategyJoin{});
+    return std::isfinite(w) ? counted(c, StrategyKind::EmitterHit, false, contrib * w) : Spectrum(0.0f);
+}
+
+Spectrum lightConnection(const StrategyContext& c, int t) {
+    const Scene& scene = c.scene;
+    if (scene.lightDistribution().empty()) return Spectrum(0.0f);
+    const uint32_t dims = dim::connection(1, t);
+    const Sample2 uLight = c.sampler.get2D(dims + dim::kLightPoint);
+    float pick;
+    const int li = scene.lightDistribution().sample(c.sampler.get1D(dims + dim::kPick), &pick);
+    const Light& l = scene.lights()[li];
+    const PathVertex& zPrev = c.camera[t - 2];
+    Vec3 anchor;
+    const bool eaOn = c.mis.connect != ConnectMode::Density && c.camera[t - 1].edgeMedium && !zPrev.delta &&
+                      equiAngularAnchor(scene, l, uLight, &anchor);
+    const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
+    Spectrum L(0.0f);
+    for (int variant = 0; variant < 2; ++variant) {
+        const bool ea = variant == 1;
+        if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
+        VertexSwap swap;
+        if (ea) {
+            PathVertex v;
+            EquiAngularAim aim{true, anchor, &l, false};
+            if (!equiAngularVertex(scene, c.camera[t - 1], zPrev, towardsPrevious(c.camera, t - 2), aim, c.mis,
+                                   c.sampler.get1D(dims + dim::kEquiAngular), &v))
+                continue;
+            swap.set(&c.camera[t - 1], v);
+        }
+        const PathVertex& z = c.camera[t - 1];
+        LightSample ls;
+        if (!sampleLight(scene, l, z.p, uLight, &ls) || isBlack(ls.Le)) continue;
+        Spectrum f = scatter(scene, z, z.wo, ls.wi, TransportMode::Radiance);
+        if (isBlack(f)) continue;
+        // Stop just short of an emitting surface so it does not shadow itself.
+        const bool surfaceLight = l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
+        Connection conn = connectPoints(scene, leaving(z.p, surfaceNormal(z), ls.wi, ls.dist, surfaceLight, lightTarget(scene, li)),
+                                        mediaTowards(scene, z, ls.wi), z.isMedium(), false, c.stats);
+        if (isBlack(conn.T)) continue;
+        Spectrum contrib = z.beta * f * ls.Le * conn.T / (pick * ls.pdf);
+        if (isBlack(contrib)) continue;
+        float w = 1.0f;
+        if (c.weighted) {
+            // The sampled light vertex y0, with the light subpath's densities. A directional
+            // light's vertex sits up its beam (its direction is all the weights read).
+            Vec3 n(0.0f);
+            if (l.kind == LightKind::Sphere) n = normalize(ls.p - l.position);
+            if (l.kind == LightKind::Triangle) {
+                const Mesh& mesh = scene.mesh(l.mesh);
+                const uint32_t* idx = &mesh.indices[3 * l.triangle];
+                n = normalize(cross(mesh.positions[idx[1]] - mesh.positions[idx[0]], mesh.positions[idx[2]] - mesh.positions[idx[0]]));
+                if (dot(n, -ls.wi) < 0) n = -n;
+            }
+            Vec3 p = std::isinf(ls.dist) ? z.p + ls.wi * std::max(1.0f, 2.0f * scene.boundsRadius()) : ls.p;
+            float pos, dir;
+            emissionPdf(scene, l, p, n, -ls.wi, &pos, &dir);
+            PathVertex y0 = makeLightVertex(scene, li, pick, p, n, pos);
+            w = weigh(c, &y0, 1, t, joinOf(conn, ea));
+        }
+        if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
+    }
+    return L;
+}
+
+void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
+    const Scene& scene = c.scene;
+    const Camera& cam = scene.camera();
+    const bool real = s <= c.nLight;
+    const PathVertex& edge = c.light[s - 1];
+    const PathVertex* yPrev = s >= 2 ? &c.light[s - 2] : nullptr;
+    const bool eaOn = c.mis.connect != ConnectMode::Density && yPrev && edge.edgeMedium && !yPrev->delta && (real || edge.ghost);
+    const bool ffOn = real && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
+                      !(c.mis.connect == ConnectMode::EquiAngular && eaOn && edge.isMedium() && !edge.edgeCrossed);
+    for (int variant = 0; variant < 2; ++variant) {
+        const bool ea = variant == 1;
+        if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
+        // point light), within the view frustum.
+        VertexSwap swap;
+        if (ea) {
+            PathVertex v;
+            if (!equiAngularVertex(scene, edge, *yPrev, towardsPrevious(c.light, s - 2), equiAngularAim(scene, c.camera[0], false),
+                                   c.mis, c.sampler.get1D(dim::connection(s, 1) + dim::kEquiAngular), &v))
+                continue;
+            swap.set(&c.light[s - 1], v);
+        }
+        const PathVertex& y = c.light[s - 1];
+        CameraConnection cc;
+        if (!connectToCamera(cam, y.p, c.width, c.height, &cc)) continue;
+        const Vec3 toCam = cc.wi;
+        Spectrum f;
+        if (y.kind == VertexKind::Light) {
+            if (scene.lights()[y.light].kind == LightKind::Directional) continue;
+            f = emitted(scene, y, toCam) * (dot(y.ng, y.ng) > 0 ? std::abs(dot(y.ng, toCam)) : 1.0f);
+        } else {
+            f = scatter(scene, y, toCam, y.wo, TransportMode::Importance);
+        }
+        if (isBlack(f)) continue;
+        Connection conn = connectVertices(scene, c.camera[0], y, c.stats);
+        if (isBlack(conn.T)) continue;
+        const float cosCam = dot(-toCam, cam.forward);
+        Spectrum value = y.beta * f * conn.T * (cc.We * cosCam / (cc.dist * cc.dist));
+        if (isBlack(value)) continue;
+        float w = weigh(c, c.light, s, 1, joinOf(conn, ea));
+        if (std::isfinite(w)) splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * w), c.width, c.height);
+    }
+}
+
+Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
+    const Scene& scene = c.scene;
+    const PathVertex& y = c.light[s - 1];
+    if (!scatters(y)) return Spectrum(0.0f);
+    const PathVertex& zPrev = c.camera[t - 2];
+    const bool eaOn = c.mis.connect != ConnectMode::Density && c.camera[t - 1].edgeMedium && !zPrev.delta;
+    const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
+    Spectrum L(0.0f);
+    for (int variant = 0; variant < 2; ++variant) {
+        const bool ea = variant == 1;
+        if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        // The equi-angular variant: z(t−1) on its ray, towards y(s−1).
+        VertexSwap swap;
+        if (ea) {
+            PathVertex v;
+            if (!equiAngularVertex(scene, c.camera[t - 1], zPrev, towardsPrevious(c.camera, t - 2), equiAngularAim(scene, y, false),
+                                   c.mis, c.sampler.get1D(dim::connection(s, t) + dim::kEquiAngular), &v))
+                continue;
+            swap.set(&c.camera[t - 1], v);
+        }
+        const PathVertex& z = c.camera[t - 1];
+        Vec3 d = y.p - z.p;
+        const float dist = length(d);
+        if (!(dist > 0)) continue;
+        const Vec3 w = d / dist;  // from the camera side to the light side
+        Spectrum fz = scatter(scene, z, z.wo, w, TransportMode::Radiance);
+        Spectrum fy = scatter(scene, y, -w, y.wo, TransportMode::Importance);
+        if (isBlack(fz) || isBlack(fy)) continue;
+        Connection conn = connectVertices(scene, z, y, c.stats);
+        if (isBlack(conn.T)) continue;
+        Spectrum contrib = z.beta * fz * conn.T * fy * y.beta / (dist * dist);
+        if (isBlack(contrib)) continue;
+        float weight = weigh(c, c.light, s, t, joinOf(conn, ea));
+        if (std::isfinite(weight)) L += counted(c, StrategyKind::SubpathConnection, ea, contrib * weight);
+    }
+    return L;
+}
+
+}  // namespace brume

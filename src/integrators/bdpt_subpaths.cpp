@@ -1,0 +1,101 @@
+#include "brume/integrators/bdpt_subpaths.h"
+
+#include "brume/integrators/random_walk.h"
+#include "brume/integrators/sample_dimensions.h"
+#include "brume/scene/camera_importance.h"
+#include "brume/scene/light_emission.h"
+
+namespace brume {
+
+namespace {
+
+// Texture coordinates of point p on a triangle light, from barycentrics by areas.
+void triangleLightUv(const Mesh& mesh, int triangle, Vec3 p, float* u, float* v) {
+    if (mesh.uvs.empty()) return;
+    const uint32_t* idx = &mesh.indices[3 * triangle];
+    Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
+    Vec3 n = cross(p1 - p0, p2 - p0);
+    float nn = dot(n, n);
+    float b1 = nn > 0 ? dot(cross(p - p0, p2 - p0), n) / nn : 0.0f;
+    float b2 = nn > 0 ? dot(cross(p1 - p0, p - p0), n) / nn : 0.0f;
+    float b0 = 1 - b1 - b2;
+    *u = mesh.uvs[2 * idx[0]] * b0 + mesh.uvs[2 * idx[1]] * b1 + mesh.uvs[2 * idx[2]] * b2;
+    *v = mesh.uvs[2 * idx[0] + 1] * b0 + mesh.uvs[2 * idx[1] + 1] * b1 + mesh.uvs[2 * idx[2] + 1] * b2;
+}
+
+}  // namespace
+
+PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos) {
+    const Light& light = scene.lights()[li];
+    PathVertex y0;
+    y0.kind = VertexKind::Light;
+    y0.light = li;
+    y0.p = p;
+    y0.ng = y0.ns = n;
+    y0.deltaLight = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
+                    light.kind == LightKind::Directional;
+    // A double-sided triangle may emit from its back, where other media may be.
+    bool back = false;
+    if (light.kind == LightKind::Triangle) {
+        y0.mesh = light.mesh;
+        y0.triangle = light.triangle;
+        const Mesh& mesh = scene.mesh(light.mesh);
+        triangleLightUv(mesh, light.triangle, p, &y0.u, &y0.v);
+        const uint32_t* idx = &mesh.indices[3 * light.triangle];
+        Vec3 front = cross(mesh.positions[idx[1]] - mesh.positions[idx[0]], mesh.positions[idx[2]] - mesh.positions[idx[0]]);
+        back = dot(n, front) < 0;
+    }
+    y0.media = scene.lightMedia(li, back);
+    y0.pdfFwd = light.kind == LightKind::Directional ? pick : pick * pdfPos;
+    y0.beta = Spectrum(1.0f / float(y0.pdfFwd));
+    return y0;
+}
+
+int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter,
+                       const Sampler& sampler, PathVertex* path, PathStats& stats) {
+    const Camera& cam = scene.camera();
+    Ray ray = cam.generateRay(fx, fy, width, height);
+    PathVertex& z0 = path[0];
+    z0 = PathVertex{};
+    z0.kind = VertexKind::Camera;
+    z0.p = ray.o;
+    z0.ng = cam.forward;
+    z0.media = scene.cameraMedia();
+    z0.beta = Spectrum(1.0f);  // We·cosθ / p_dir = 1 for the pinhole
+    WalkStart start{leaving(ray.o, Vec3(0.0f), ray.d), scene.cameraMedia(), Spectrum(1.0f),
+                    cameraPdfDir(cam, ray.d, width, height), width, height, dim::Side::Camera};
+    return randomWalk(scene, start, TransportMode::Radiance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
+}
+
+int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler, PathVertex* path, PathStats& stats) {
+    if (scene.lightDistribution().empty()) return 0;
+    float pick;
+    int li = scene.lightDistribution().sample(sampler.get1D(dim::kLightStart + dim::kPick), &pick);
+    const Light& light = scene.lights()[li];
+    const bool directional = light.kind == LightKind::Directional;
+    if (directional) {
+        // In an infinite ambient medium a directional light reaches nothing (as in pt).
+        const Medium* amb = scene.medium(scene.desc().ambientMedium);
+        if (amb && maxComponent(amb->sigmaT()) > 0) return 0;
+    }
+    EmissionSample es;
+    if (!sampleEmission(scene, light, sampler.get2D(dim::kLightStart + dim::kPosition),
+                        sampler.get2D(dim::kLightStart + dim::kEmitDir), &es) ||
+        isBlack(es.Le) || !(es.pdfPos > 0) || !(es.pdfDir > 0))
+        return 0;
+    PathVertex& y0 = path[0];
+    y0 = makeLightVertex(scene, li, pick, es.p, es.n, es.pdfPos);
+    y0.wo = es.d;
+    float cosLight = dot(es.n, es.n) > 0 ? std::abs(dot(es.n, es.d)) : 1.0f;
+    Spectrum beta = es.Le * (cosLight / (pick * es.pdfPos * es.pdfDir));
+    WalkStart start{leaving(es.p, es.n, es.d), y0.media, beta, directional ? 1.0f : es.pdfDir, 0, 0, dim::Side::Light};
+    int n = randomWalk(scene, start, TransportMode::Importance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
+    if (directional && n > 1) {
+        // Parallel rays: the disk's area density projects onto y1 with |cos| and no 1/d².
+        PathVertex& y1 = path[1];
+        y1.pdfFwd = es.pdfPos * (y1.isSurface() ? std::abs(dot(y1.ng, y1.wo)) : 1.0f) * y1.edgeFwdFreeFlight;
+    }
+    return n;
+}
+
+}  // namespace brume

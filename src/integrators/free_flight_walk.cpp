@@ -1,0 +1,41 @@
+#include "brume/integrators/free_flight_walk.h"
+
+namespace brume {
+
+Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
+                    const Sampler& sampler, uint32_t dims, PathStats& stats) {
+    Flight f;
+    const Ray ray{seg.o, seg.d, seg.end};
+    BoundaryWalk walk(scene, seg, media, stats);
+    BoundaryPiece piece;
+    while (walk.next(&piece)) {
+        if (piece.index == 0) f.firstEnd = piece.t1;
+        if (piece.medium) {
+            const uint32_t repeat = uint32_t(piece.index);
+            MediumSample ms = piece.medium->sampleDistance(ray, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
+                                                           sampler.get1D(dims + dim::kChannel, repeat),
+                                                           startIsPoint && piece.index == 0);
+            f.weight *= ms.weight;
+            f.fwd *= ms.fwd;
+            f.rev *= ms.rev;
+            if (ms.scattered) {
+                f.end = Flight::End::Collision;
+                f.t = ms.t;
+                f.medium = piece.medium;
+                break;
+            }
+            if (isBlack(ms.weight)) break;  // flew to infinity through a medium
+        }
+        if (piece.hit.valid() && !piece.boundary) {
+            f.end = Flight::End::Surface;
+            f.t = piece.t1;
+            f.hit = piece.hit;
+            break;
+        }
+    }
+    f.media = walk.media();
+    f.crossed = walk.crossed();
+    return f;
+}
+
+}  // namespace brume

@@ -242,6 +242,37 @@ TEST_CASE("bdpt: the same seed gives the same image for 1 and 2 threads (splats 
     CHECK(one.rgb() == two.rgb());
 }
 
+TEST_CASE("bdpt: per-pass strategy counts flow back through the pass hooks (the same for any thread count)", "[bdpt]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    RenderOptions o;
+    o.width = o.height = 24;
+    o.spp = 3;
+    o.seed = 5;
+    BdptOptions opt;
+    opt.connect = ConnectMode::Mis;
+    BdptIntegrator a(opt), b(opt);
+    Film fa(24, 24), fb(24, 24);
+    o.threads = 1;
+    render(*scene, a, o, fa);
+    o.threads = 2;
+    render(*scene, b, o, fb);
+    uint64_t sum = 0;
+    for (int k = 0; k < 4; ++k) {
+        INFO("strategy kind " << k);
+        CHECK(a.totalCounts().freeFlight[k] == b.totalCounts().freeFlight[k]);
+        CHECK(a.totalCounts().equiAngular[k] == b.totalCounts().equiAngular[k]);
+        CHECK(a.lastPassCounts().freeFlight[k] == b.lastPassCounts().freeFlight[k]);
+        CHECK(a.lastPassCounts().freeFlight[k] <= a.totalCounts().freeFlight[k]);
+        sum += a.totalCounts().freeFlight[k] + a.totalCounts().equiAngular[k];
+    }
+    // Every kind contributes in this scene (an area light over a floor in a fog box), both
+    // variants of the connections that have them.
+    for (int k = 0; k < 4; ++k) CHECK(a.totalCounts().freeFlight[k] > 0);
+    for (int k = 1; k < 4; ++k) CHECK(a.totalCounts().equiAngular[k] > 0);
+    CHECK(a.totalCounts().equiAngular[0] == 0);  // hitting an emitter has no equi-angular variant
+    CHECK(sum > uint64_t(o.width * o.height * o.spp));
+}
+
 TEST_CASE("bdpt matches pt: glass sphere in fog lit by a small bulb (caustic)", "[bdpt]") {
     // With a spot light (a point) the path tracer cannot find the light through the glass at
     // all; a bulb of radius 0.1 m lets it, slowly. Blocks of 8×8 pixels; every connect mode

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/scene/camera.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/sampling/sampler.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "brume/render/image_io.h"
+#include "brume/film/image_io.h"
 #include "support/scratch_files.h"
 
 namespace fs = std::filesystem;

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/render/renderer.h"
 #include "brume/scene/scene.h"
 

@@ -29,8 +29,8 @@
 #include "brume/cli/commands.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
-#include "brume/render/film.h"
-#include "brume/render/image_io.h"
+#include "brume/film/film.h"
+#include "brume/film/image_io.h"
 #include "brume/render/renderer.h"
 
 namespace brume::cli {

@@ -13,7 +13,7 @@
 
 #include "brume/cli/commands.h"
 #include "brume/integrators/path_tracer.h"
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/render/renderer.h"
 #include "brume/sampling/warp.h"
 

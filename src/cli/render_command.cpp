@@ -19,9 +19,9 @@
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/render/fnv1a.h"
-#include "brume/render/image_io.h"
+#include "brume/film/image_io.h"
 #include "brume/render/renderer.h"
 
 namespace brume::cli {

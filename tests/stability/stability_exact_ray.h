@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "brume/integrators/bdpt.h"
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/render/renderer.h"
 
 namespace brume::test {

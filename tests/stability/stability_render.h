@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 #include "brume/render/renderer.h"
 #include "support/pixel_estimates.h"
 

@@ -5,7 +5,6 @@
 #pragma once
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
-#include "brume/render/renderer.h"
 
 namespace brume {
 

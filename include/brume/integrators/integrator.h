@@ -1,6 +1,7 @@
 // An integrator estimates the radiance reaching the camera through one film position.
 #pragma once
 #include <cstdint>
+#include "brume/integrators/splat_list.h"
 #include "brume/math/vec3.h"
 #include "brume/sampling/sampler.h"
 
@@ -40,6 +41,19 @@ public:
     // steer later passes) changes only here, so every sample of a pass sees the same state.
     virtual void beginPass(const Scene& scene, int pass) {}
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}
+};
+
+// An integrator that, besides the radiance through its own film position, deposits
+// contributions at other pixels (light tracing, the t = 1 strategies of bidirectional path
+// tracing). The renderer recognises it and passes the SplatList of the tile being rendered;
+// splats end up in the film divided by the number of passes, like ordinary samples.
+class SplattingIntegrator : public Integrator {
+public:
+    virtual Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
+                                      Sampler& sampler, PathStats& stats, SplatList& splats) const = 0;
+    // Outside render() there is nowhere for splats to go: they are made and thrown away.
+    Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
+                    PathStats& stats) const override;
 };
 
 }  // namespace brume

@@ -21,7 +21,7 @@
 #include <utility>
 #include <vector>
 
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 
 namespace brume {
 

@@ -15,7 +15,7 @@
 #include <functional>
 
 #include "brume/integrators/integrator.h"
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 
 namespace brume {
 
@@ -36,19 +36,6 @@ struct RenderStats {
     uint64_t samples = 0;    // pixel samples of those passes, non-finite ones included
     uint64_t rays = 0;       // as counted by the integrator (PathStats::rays), same passes
     uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
-};
-
-// An integrator that, besides the radiance through its own film position, deposits
-// contributions at other pixels (light tracing, the t = 1 strategies of bidirectional path
-// tracing). render() recognises it and passes the SplatList of the tile being rendered;
-// splats end up in the film divided by the number of passes, like ordinary samples.
-class SplattingIntegrator : public Integrator {
-public:
-    virtual Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
-                                      Sampler& sampler, PathStats& stats, SplatList& splats) const = 0;
-    // Outside render() there is nowhere for splats to go: they are made and thrown away.
-    Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
-                    PathStats& stats) const override;
 };
 
 // What render() watches and calls besides its options; every member is optional.

@@ -1,4 +1,4 @@
-#include "brume/render/image_io.h"
+#include "brume/film/image_io.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -13,39 +13,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "brume/integrators/splat_list.h"
 #include "brume/math/vec3.h"
 
 namespace brume {
-
-// Splats made by one work unit, in the order they were made. Reused from pass to pass
-// (clear() keeps the capacity), so steady-state splatting does not allocate.
-class SplatList {
-public:
-    struct Record {
-        int x, y;
-        Spectrum value;
-    };
-    // (fx, fy): film position in pixels, top-left origin, as Integrator::sample receives it.
-    // Positions outside the image are ignored; non-finite values are dropped and counted.
-    void splat(float fx, float fy, Spectrum value, int width, int height) {
-        if (!(fx >= 0 && fy >= 0 && fx < float(width) && fy < float(height))) return;
-        if (!isFinite(value)) {
-            ++nonFinite_;
-            return;
-        }
-        records_.push_back({int(fx), int(fy), value});
-    }
-    void clear() {
-        records_.clear();
-        nonFinite_ = 0;
-    }
-    const std::vector<Record>& records() const { return records_; }
-    uint64_t nonFinite() const { return nonFinite_; }
-
-private:
-    std::vector<Record> records_;
-    uint64_t nonFinite_ = 0;
-};
 
 class Film {
 public:

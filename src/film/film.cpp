@@ -1,4 +1,4 @@
-#include "brume/render/film.h"
+#include "brume/film/film.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -10,16 +10,17 @@ namespace brume {
 // Notation (docs/mis.md): camera subpath z0 (the pinhole) … z(t−1), light subpath
 // y0 (on a light) … y(s−1); strategy (s, t) connects y(s−1) with z(t−1). Every vertex keeps
 // pdfFwd (area density of being made by its own walk) and pdfRev (by the other walk); both
-// include free-flight densities. A sample: both subpaths, their MIS prefix sums, then every
+// include free-flight densities. A sample: both subpaths, their MIS sums (stored in their
+// vertices), then every
 // strategy in turn (bdpt_strategies.cpp), each weighted by bdpt_mis.cpp.
 namespace {
 
-// One sample's subpaths and their MIS prefix sums (misPrefixes), kept per thread and reused.
+// One sample's subpaths, kept per thread and reused: a thread holds only the sample in
+// flight. (A pass's light subpaths kept together for a light-vertex cache would take
+// pixels × mean light-subpath length × sizeof(PathVertex), ~280 B: some 300 MB at 640x480.)
 struct Subpaths {
     std::vector<PathVertex> camera = std::vector<PathVertex>(kMaxSubpathVertices);
     std::vector<PathVertex> light = std::vector<PathVertex>(kMaxSubpathVertices);
-    std::vector<double> cameraPrefix = std::vector<double>(kMaxSubpathVertices), cameraVariant = cameraPrefix;
-    std::vector<double> lightPrefix = cameraPrefix, lightVariant = cameraPrefix;
 };
 
 }  // namespace
@@ -37,13 +38,10 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const bool weighted = options_.onlyS < 0 || options_.weighted;
     const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, width, height};
     if (weighted) {
-        misPrefixes(scene, camera, nCamera, true, mis, paths.cameraPrefix.data(), paths.cameraVariant.data());
-        misPrefixes(scene, light, nLight, false, mis, paths.lightPrefix.data(), paths.lightVariant.data());
+        misPrefixes(scene, camera, nCamera, true, mis);
+        misPrefixes(scene, light, nLight, false, mis);
     }
-    const StrategyContext c{scene,   options_, mis, camera, nCamera, light, nLight,
-                            SubpathMis{paths.cameraPrefix.data(), paths.cameraVariant.data()},
-                            SubpathMis{paths.lightPrefix.data(), paths.lightVariant.data()},
-                            weighted, sampler, stats, width, height};
+    const StrategyContext c{scene, options_, mis, camera, nCamera, light, nLight, weighted, sampler, stats, width, height};
 
     Spectrum L(0.0f);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;

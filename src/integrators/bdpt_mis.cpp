@@ -54,36 +54,35 @@ double variantFactor(const Scene& scene, const PathVertex& prev, const PathVerte
 
 }  // namespace
 
-void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings st, double* prefix,
-                 double* variant) {
+void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings st) {
     if (cameraSide) {
         // V_j (j camera vertices): z(j−1) reached from z(j−2), joined to z(j); for j = 1 the
         // camera connection: x1 reached from x2, joined to the pinhole.
-        if (n > 0) prefix[0] = 0.0, variant[0] = 1.0;
+        if (n > 0) path[0].misPrefix = 0.0, path[0].misVariant = 1.0;
         for (int j = 1; j < n; ++j) {
             if (j >= 2)
-                variant[j] = variantFactor(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr);
+                path[j].misVariant = variantFactor(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr);
             else
-                variant[j] = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr) : 1.0;
-            double term = !path[j].delta && !path[j - 1].delta ? variant[j] : 0.0;
-            prefix[j] = ratioPow(st.heuristic, path[j]) * (term + prefix[j - 1]);
+                path[j].misVariant = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr) : 1.0;
+            double term = !path[j].delta && !path[j - 1].delta ? path[j].misVariant : 0.0;
+            path[j].misPrefix = ratioPow(st.heuristic, path[j]) * (term + path[j - 1].misPrefix);
         }
         return;
     }
     // Light side, y_i moved to the camera side: y_i reached from y(i+1), joined to y(i−1)
     // (no variant for i = 0: the strategy would have no light vertex to aim at).
     for (int i = 0; i < n; ++i) {
-        variant[i] = i >= 1 && i + 1 < n
+        path[i].misVariant = i >= 1 && i + 1 < n
                          ? variantFactor(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
                          : 1.0;
         bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
-        double term = !path[i].delta && !deltaBefore ? variant[i] : 0.0;
-        prefix[i] = ratioPow(st.heuristic, path[i]) * (term + (i > 0 ? prefix[i - 1] : 0.0));
+        double term = !path[i].delta && !deltaBefore ? path[i].misVariant : 0.0;
+        path[i].misPrefix = ratioPow(st.heuristic, path[i]) * (term + (i > 0 ? path[i - 1].misPrefix : 0.0));
     }
 }
 
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                 bool ownEquiAngular, bool connectionCrossed, const SubpathMis& lightMis, const SubpathMis& cameraMis) {
+                 bool ownEquiAngular, bool connectionCrossed) {
     const MisHeuristic h = st.heuristic;
     const int k = s + t - 1;  // vertices x0 … xk
     auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
@@ -112,11 +111,11 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
     // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1) moved
     // by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the subpath's
     // V treats no camera vertex as the light), or (for i = 1, t = 2) the light side.
-    double p = t - 3 >= 1 ? cameraMis.prefix[t - 3] : 0.0;
+    double p = t - 3 >= 1 ? camera[t - 3].misPrefix : 0.0;
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
         bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1);
-        double term = !camera[i].delta && !camera[i - 1].delta ? (own ? cameraMis.variant[i] : variants(i, nullptr)) : 0.0;
+        double term = !camera[i].delta && !camera[i - 1].delta ? (own ? camera[i].misVariant : variants(i, nullptr)) : 0.0;
         p = ratioPow(h, camera[i]) * (term + p);
     }
     sum += p;
@@ -125,11 +124,11 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
     // a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every other
     // strategy moves to the camera side.)
     // V for y(s−2) is the subpath's own unless y(s−1) is an equi-angular camera connection's.
-    double q = s - 3 >= 0 ? lightMis.prefix[s - 3] : 0.0;
+    double q = s - 3 >= 0 ? light[s - 3].misPrefix : 0.0;
     for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
         bool own = i == s - 2 && !(t == 1 && ownEquiAngular);
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
-        double term = !light[i].delta && !deltaBefore ? (own ? lightMis.variant[i] : variants(t + s - i, nullptr)) : 0.0;
+        double term = !light[i].delta && !deltaBefore ? (own ? light[i].misVariant : variants(t + s - i, nullptr)) : 0.0;
         q = ratioPow(h, light[i]) * (term + q);
     }
     double c = ownEquiAngular && t >= 2 && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 1.0;
@@ -188,7 +187,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 }
 
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
-                      MisSettings st, const SubpathMis& lightMis, const SubpathMis& cameraMis) {
+                      MisSettings st) {
     // The four densities are the subpaths' own outside this connection: put them back after.
     double saved[4];
     PathVertex* touched[4] = {&camera[t - 1], t >= 2 ? &camera[t - 2] : nullptr, s >= 1 ? &light[s - 1] : nullptr,
@@ -196,7 +195,7 @@ double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* 
     for (int i = 0; i < 4; ++i)
         if (touched[i]) saved[i] = touched[i]->pdfRev;
     connectionReverseDensities(scene, light, s, camera, t, join, st);
-    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed, lightMis, cameraMis);
+    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed);
     for (int i = 0; i < 4; ++i)
         if (touched[i]) touched[i]->pdfRev = saved[i];
     return w;

@@ -1,7 +1,7 @@
 // MIS weights of the bidirectional strategies, including the equi-angular variants of
 // connection vertices (docs/mis.md derives every line). Each weight costs O(1): the ratio
 // recursion over the parts of both subpaths that no connection changes is summed once per
-// subpath (misPrefixes), and only the terms next to the connection are evaluated per
+// subpath and kept in its vertices (misPrefixes), and only the terms next to the connection are evaluated per
 // connection (misWeight).
 #pragma once
 #include "brume/integrators/mis.h"
@@ -20,16 +20,11 @@ struct MisSettings {
     int width = 0, height = 0;  // the film, for clipping to the view frustum
 };
 
-// What misWeight needs of one subpath, from the densities its walk stored (n vertices):
-// prefix[j] = Σ_{i ≤ j} Π_{m=i..j} r_m^β · V_i (camera: i ≥ 1; light: i ≥ 0) and the variant
-// factors V. misWeight reads prefix[t−3] (camera) and prefix[s−3] (light), which no
-// connection alters, and the V that do not involve the connection.
-struct SubpathMis {
-    const double* prefix;
-    const double* variant;
-};
-void misPrefixes(const Scene& scene, const PathVertex* path, int n, bool cameraSide, MisSettings settings,
-                 double* prefix, double* variant);
+// Stores in each vertex of a subpath (n vertices) the sums misWeight needs of it, from the
+// densities its walk stored: misPrefix of vertex j = Σ_{i ≤ j} Π_{m=i..j} r_m^β · V_i
+// (camera: i ≥ 1; light: i ≥ 0) and misVariant = V_j. misWeight reads the prefix at z(t−3) and
+// y(s−3), which no connection alters, and the V that do not involve the connection.
+void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings settings);
 
 // What a strategy's weight needs of the connection it made between y(s−1) and z(t−1).
 struct StrategyJoin {
@@ -40,11 +35,11 @@ struct StrategyJoin {
 };
 
 // The weight of the strategy (s, t) for the joined subpaths (for s = 1 `light` is the sampled
-// light vertex alone, and lightMis is not read). The reverse densities of the four vertices
+// light vertex alone, whose MIS sums are not read). The reverse densities of the four vertices
 // next to the connection, which only this connection determines, are set for the weight and
 // put back after (connectionReverseDensities).
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
-                      MisSettings settings, const SubpathMis& lightMis, const SubpathMis& cameraMis);
+                      MisSettings settings);
 
 // Sets pdfRev of z(t−1), z(t−2), y(s−1), y(s−2) (those that exist) to the densities with which
 // the other subpath's walk, continued through the connection, would have made them.
@@ -54,7 +49,6 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 // The weight for joined subpaths whose four vertices next to the connection already carry its
 // reverse densities (strategyWeight calls this; the weight checker's derivation follows it).
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
-                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed, const SubpathMis& lightMis,
-                 const SubpathMis& cameraMis);
+                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed);
 
 }  // namespace brume

@@ -15,8 +15,8 @@
 
 namespace brume {
 
-// Everything a strategy reads: the two subpaths of this sample, their MIS prefixes, and where
-// its numbers come from.
+// Everything a strategy reads: the two subpaths of this sample (their MIS sums in their
+// vertices), and where its numbers come from.
 struct StrategyContext {
     const Scene& scene;
     const BdptOptions& options;
@@ -25,7 +25,6 @@ struct StrategyContext {
     int nCamera;
     PathVertex* light;
     int nLight;
-    SubpathMis cameraMis, lightMis;
     bool weighted;  // false: unweighted (BdptOptions::onlyS without `weighted`)
     const Sampler& sampler;
     PathStats& stats;

@@ -46,6 +46,10 @@ struct PathVertex {
     // The walk traced this ray but made no vertex on it (it escaped): only the edge fields
     // above are set, so that an equi-angular vertex can still be placed on the ray.
     bool ghost = false;
+    // The MIS partial sums of the subpath up to this vertex (bdpt_mis.h, misPrefixes): kept in
+    // the vertex, as SmallVCM keeps its, so a stored subpath carries what its weights need.
+    double misPrefix = 0;
+    double misVariant = 1;
 
     bool isSurface() const { return kind == VertexKind::Surface; }
     bool isMedium() const { return kind == VertexKind::Medium; }

@@ -114,6 +114,27 @@ TEST_CASE("medium: a homogeneous medium answers with its closed forms", "[medium
         }
     }
     CHECK(scattered > 1000);
+    // A grey medium takes its own path (one exponential): the same closed forms.
+    Medium grey;
+    grey.sigmaS = Spectrum(0.6f);
+    grey.sigmaA = Spectrum(0.2f);
+    for (int i = 0; i < 200; ++i) {
+        MediumSample ms = grey.sampleDistance(ray, 0.0f, 2.0f, rng.next1D(), rng.next1D(), true);
+        const double len = ms.t;
+        if (ms.scattered) {
+            REQUIRE(ms.fwd == Approx(0.8 * std::exp(-0.8 * len)));
+            REQUIRE(ms.rev == Approx(ms.fwd));  // the reverse walk scatters at the start point
+            REQUIRE(ms.weight.y == Approx(std::exp(-0.8 * len) * 0.6 / ms.fwd));
+        } else {
+            REQUIRE(ms.fwd == Approx(std::exp(-1.6)));
+            REQUIRE(ms.rev == Approx(0.8 * std::exp(-1.6)));
+            REQUIRE(ms.weight.x == Approx(1.0));
+        }
+    }
+    MediumTransit gt = grey.transit(ray, 0.5f, 2.0f, false, true);
+    CHECK(gt.T.x == Approx(std::exp(-0.8 * 1.5)));
+    CHECK(gt.fwd == Approx(0.8 * std::exp(-0.8 * 1.5)));
+    CHECK(gt.rev == Approx(std::exp(-0.8 * 1.5)));
     // Over an infinite piece nothing passes.
     MediumSample out = m.sampleDistance(ray, 0.0f, kInfinity, 0.999999f, 0.1f, false);
     CHECK((out.scattered || isBlack(out.weight)));

@@ -9,6 +9,8 @@
 // from either end: an edge's free-flight densities are the same both ways, whichever
 // strategy asks.
 #pragma once
+#include <cmath>
+
 #include "brume/integrators/integrator.h"
 #include "brume/scene/scene.h"
 
@@ -45,8 +47,23 @@ inline Vec3 offsetOrigin(Vec3 p, Vec3 ng, Vec3 d) {
 // The segment leaving p in direction d over [0, end]: from a surface with geometric normal ng
 // (zero: not on a surface, e.g. a medium point, a point light or the pinhole); endOnSurface:
 // the end is on a surface (its primitive `to`), which the query stops short of.
-WalkSegment leaving(Vec3 p, Vec3 ng, Vec3 d, float end = kInfinity, bool endOnSurface = false,
-                    const ShadowTarget& to = ShadowTarget{});
+inline WalkSegment leaving(Vec3 p, Vec3 ng, Vec3 d, float end = kInfinity, bool endOnSurface = false,
+                           const ShadowTarget& to = ShadowTarget{}) {
+    WalkSegment s;
+    s.o = p;
+    s.d = d;
+    s.end = end;
+    Vec3 q = dot(ng, ng) > 0 ? offsetOrigin(p, ng, d) : p;
+    float reach = end;
+    if (!std::isinf(end)) {
+        Vec3 b = p + d * end;
+        reach = length(b - q);
+        if (endOnSurface) reach -= rayEpsilon(b);
+    }
+    s.query = Ray{q, d, reach};
+    s.to = to;
+    return s;
+}
 
 struct BoundaryPiece {
     float t0 = 0, t1 = 0;            // along the segment; t1 = the surface hit or the segment's end

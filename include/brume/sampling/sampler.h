@@ -20,8 +20,12 @@ public:
     uint32_t next() {
         uint64_t old = state_;
         state_ = old * 6364136223846793005ULL + inc_;
-        uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
-        uint32_t rot = uint32_t(old >> 59u);
+        return output(old);
+    }
+    // The output permutation (XSH-RR) of a 64-bit state.
+    static uint32_t output(uint64_t state) {
+        uint32_t xorshifted = uint32_t(((state >> 18u) ^ state) >> 27u);
+        uint32_t rot = uint32_t(state >> 59u);
         return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
     }
 
@@ -63,30 +67,30 @@ private:
 class Sampler {
 public:
     Sampler(uint64_t seed, uint64_t pixel, uint64_t pass)
-        : key_(mixBits(seed ^ mixBits(pixel))),
-          stream_(mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))),
-          sequential_(key_, stream_) {}
+        : base_(mixBits(mixBits(seed ^ mixBits(pixel)) ^ mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL)))),
+          sequential_(mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))) {}
 
     // The number at dimension `dim`. `repeat` > 0: the repeat-th further draw of a decision
     // that may draw a variable number of times (invisible-boundary pieces, tracking steps),
     // from a hashed stream seeded by its dimension; repeat 0 is the dimension itself.
+    // The (seed, pixel, pass) key is hashed once, here with the dimension a second time, and
+    // PCG32's output permutation makes the 32 bits: every key reaches the state through the
+    // hash (PCG32 streams that differ only in their increment start from states a fixed
+    // offset apart, and their first outputs are correlated pass to pass).
     float get1D(uint32_t dim, uint32_t repeat = 0) const {
-        // Every key goes through the hash into the state: PCG32 streams that differ only in
-        // their increment start from states a fixed offset apart, and their first outputs
-        // are correlated (passes would be, dimension by dimension).
         uint64_t d = uint64_t(dim) | (uint64_t(repeat) << 32);
-        return toUnitFloat(Pcg32(mixBits(key_ ^ mixBits(d ^ stream_)), stream_).next());
+        return toUnitFloat(Pcg32::output(mixBits(base_ ^ (d * 0xD1B54A32D192ED03ULL))));
     }
     // Dimensions dim and dim + 1.
     Sample2 get2D(uint32_t dim, uint32_t repeat = 0) const { return {get1D(dim, repeat), get1D(dim + 1, repeat)}; }
 
-    // A sequential stream of this pixel sample's own, disjoint from the dimensions above: for
+    // A sequential stream of this pixel sample's own, apart from the dimensions above: for
     // tests and tools, never for an integrator's decisions.
     float next1D() { return sequential_.next1D(); }
     Sample2 next2D() { return sequential_.next2D(); }
 
 private:
-    uint64_t key_, stream_;
+    uint64_t base_;
     Rng sequential_;
 };
 

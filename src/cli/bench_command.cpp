@@ -26,11 +26,13 @@
 #include <thread>
 #include <vector>
 
+#include "brume/cli/build_identity.h"
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/film.h"
+#include "brume/render/fnv1a.h"
 #include "brume/render/image_io.h"
 #include "brume/render/renderer.h"
 
@@ -279,19 +281,10 @@ void writeTextFile(const std::string& path, const std::string& text) {
     }
 }
 
-// FNV-1a over the scene file's bytes, so a regenerated scene at the same path does not reuse
-// a stale reference. (Buffers in separate files are not covered; the bundled scenes embed
-// theirs.)
-std::string fileHash(const std::string& path) {
-    bool ok = false;
-    std::string bytes = readTextFile(path, &ok);
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ull;
-    }
+// 16 hex digits.
+std::string hex64(uint64_t value) {
     char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
     return text;
 }
 
@@ -312,8 +305,11 @@ std::string jsonString(const std::string& s) {
     return out + "\"";
 }
 
-// What a cached reference was rendered from: one "key": value pair per line of
-// reference.json. Values are kept as JSON text; a cache matches when every field does.
+// What a cached reference was rendered from, and by which build of brume (another build may
+// render differently): one "key": value pair per line of reference.json. Values are kept as
+// JSON text; a cache matches when every field does. The scene is keyed by the FNV-1a hash of
+// its bytes, so a regenerated scene at the same path does not reuse a stale reference
+// (buffers in separate files are not covered; the bundled scenes embed theirs).
 using Record = std::vector<std::pair<std::string, std::string>>;
 
 Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method) {
@@ -322,12 +318,13 @@ Record referenceRecord(const std::string& scenePath, Resolution res, int spp, co
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
     return {
         {"scene", jsonString(absolute.string())},
-        {"scene_fnv1a64", jsonString(fileHash(scenePath))},
+        {"scene_fnv1a64", jsonString(hex64(fnv1a64File(scenePath)))},
         {"width", std::to_string(res.width)},
         {"height", std::to_string(res.height)},
         {"spp", std::to_string(spp)},
         {"seed", std::to_string(kReferenceSeed)},
         {"method", jsonString(method)},
+        {"brume_build_fnv1a64", jsonString(buildIdentity())},
     };
 }
 
@@ -365,6 +362,7 @@ std::string cacheMismatch(const std::string& cachedText, const Record& wanted) {
         if (it == cached.end()) return "reference.json has no " + key;
         if (it->second != value) {
             if (key == "scene_fnv1a64") return "the scene file changed";
+            if (key == "brume_build_fnv1a64") return "made by another build of brume";
             if (key == "width" || key == "height") return "different resolution";
             return "different " + key;
         }

@@ -70,8 +70,8 @@ bool parseCommand(CLI::App& app, const std::vector<std::string>& args) {
         if (extra.rfind('-', 0) == 0) throw UsageError("unknown option '" + extra.substr(0, extra.find('=')) + "'");
         throw UsageError("unexpected argument '" + extra + "'");
     }
-    for (const CLI::Option* positional : app.get_options([](const CLI::Option* o) { return o->get_positional(); })) {
-        const std::vector<std::string>& given = positional->results();
+    if (const CLI::Option* scene = app.get_option_no_throw("scene")) {
+        const std::vector<std::string>& given = scene->results();
         if (given.size() > 1) throw UsageError("more than one scene given ('" + given[0] + "', '" + given[1] + "')");
     }
     return true;

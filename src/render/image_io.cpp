@@ -118,6 +118,8 @@ void decodeSrgb(int width, int height, std::vector<float>& rgb) {
 
 void writeWithOiio(const std::string& file, ImageFormat format, int width, int height,
                    const std::vector<float>& rgb) {
+    std::vector<unsigned char> srgb;
+    if (format == ImageFormat::Png) srgb = srgbBytes(width, height, rgb);
     auto out = OIIO::ImageOutput::create(file);
     if (!out) throw std::runtime_error(firstLine(OIIO::geterror()));
     OIIO::TypeDesc type = format == ImageFormat::Png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
@@ -129,7 +131,7 @@ void writeWithOiio(const std::string& file, ImageFormat format, int width, int h
     bool ok = out->open(file, spec);
     if (ok) {
         if (format == ImageFormat::Png) {
-            ok = out->write_image(OIIO::TypeDesc::UINT8, srgbBytes(width, height, rgb).data());
+            ok = out->write_image(OIIO::TypeDesc::UINT8, srgb.data());
         } else {
             ok = out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
         }

@@ -4,7 +4,8 @@
 # tests, then each chart
 # (PNG, SVG) and results table copied to docs/bench/results/. About 30 minutes on 2 cores;
 # run it on an otherwise idle machine (bench warns when its threads were starved).
-#   bash docs/bench/run_all.sh [WORKDIR]      (default build/bench; references are cached there)
+#   bash docs/bench/run_all.sh [WORKDIR]      (default build/bench; references are cached there,
+#                                             for as long as brume is not rebuilt)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 work=${1:-build/bench}

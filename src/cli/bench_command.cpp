@@ -26,47 +26,17 @@
 #include <thread>
 #include <vector>
 
+#include "brume/cli/build_identity.h"
+#include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/film/film.h"
 #include "brume/film/image_io.h"
+#include "brume/render/fnv1a.h"
 #include "brume/render/renderer.h"
 
 namespace brume::cli {
-
-const char* const kBenchUsage =
-    "usage: brume bench SCENE --out DIR [options]\n"
-    "\n"
-    "Equal-time comparison of light-transport methods. Each method renders SCENE from\n"
-    "scratch for each time budget (whole passes until the budget is spent, fixed seed) and\n"
-    "is compared with a reference image r:\n"
-    "  rel_mse    = mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)\n"
-    "  rmse       = sqrt(mean (x - r)^2)\n"
-    "  efficiency = 1 / (rel_mse * seconds), seconds as measured\n"
-    "Writes DIR/results.csv (the table also goes to stdout) and each method's image at the\n"
-    "largest budget as DIR/<method>.exr (':' becomes '_').\n"
-    "\n"
-    "options:\n"
-    "  -o, --out DIR        output directory, created if missing (required)\n"
-    "  --methods LIST       comma-separated methods (default: all six); see below\n"
-    "  --budgets LIST       comma-separated time budgets in seconds (default 1,2,4)\n"
-    "  --reference FILE     reference image (.exr or .pfm) of the benchmark's size; without\n"
-    "                       it one is rendered with pt:mis (seed 24301), cached as\n"
-    "                       DIR/reference.exr + DIR/reference.json and reused while the\n"
-    "                       scene, the size and the spp match\n"
-    "  --reference-spp N    spp of the rendered reference (default 1024)\n"
-    "  --reference-method M the method that renders the reference (default pt:mis; use a\n"
-    "                       bdpt method where only light tracing finds the light, e.g.\n"
-    "                       caustics through glass)\n"
-    "  --no-chart           skip the chart and report page (written otherwise by\n"
-    "                       docs/bench/plot_bench.py with Debian's python3-matplotlib)\n"
-    "  --res WxH            image size (default 160x120)\n"
-    "  --seed N             seed of the benchmark renders (default 1)\n"
-    "  --threads N          worker threads (default: all hardware threads)\n"
-    "  -h, --help           this text\n"
-    "\n"
-    "Ctrl-C stops after the current pass; no results.csv is written (exit code 130).\n";
 
 namespace {
 
@@ -152,7 +122,6 @@ struct BenchArgs {
     const BenchMethod* referenceMethod = nullptr;  // null: pt:mis
     bool chart = true;
     int threads = 0;
-    bool help = false;
 };
 
 std::vector<std::string> splitList(const std::string& what, const std::string& text) {
@@ -168,64 +137,93 @@ std::vector<std::string> splitList(const std::string& what, const std::string& t
     }
 }
 
-BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
-    BenchArgs a;
-    bool methodsGiven = false, budgetsGiven = false;
-    ArgScanner args(argv);
-    while (args.next()) {
-        const std::string& name = args.current();
-        if (!args.isOption()) {
-            if (!a.scene.empty()) throw UsageError("more than one scene given ('" + a.scene + "', '" + name + "')");
-            a.scene = name;
-        } else if (name == "-h" || name == "--help") {
-            a.help = true;
-        } else if (name == "-o" || name == "--out") {
-            a.outDir = args.value();
-            if (a.outDir.empty()) throw UsageError(name + ": empty directory name");
-        } else if (name == "--methods") {
-            a.methods.clear();
-            for (const std::string& item : splitList(name, args.value())) {
-                const BenchMethod* m = findMethod(item);
-                if (!m) throw UsageError(name + ": unknown method '" + item + "' (available: " + methodNames() + ")");
-                if (std::find(a.methods.begin(), a.methods.end(), m) != a.methods.end())
-                    throw UsageError(name + ": method '" + item + "' given twice");
-                a.methods.push_back(m);
-            }
-            methodsGiven = true;
-        } else if (name == "--budgets") {
-            a.budgets.clear();
-            for (const std::string& item : splitList(name, args.value())) {
-                double seconds = parsePositiveSeconds(name, item, 1e6);
-                if (std::find(a.budgets.begin(), a.budgets.end(), seconds) != a.budgets.end())
-                    throw UsageError(name + ": budget " + item + " given twice");
-                a.budgets.push_back(seconds);
-            }
-            budgetsGiven = true;
-        } else if (name == "--reference") {
-            a.reference = args.value();
-            if (a.reference.empty()) throw UsageError(name + ": empty file name");
-        } else if (name == "--reference-spp") {
-            a.referenceSpp = int(parseInteger(name, args.value(), 1, 1 << 24));
-            a.referenceSppGiven = true;
-        } else if (name == "--reference-method") {
-            std::string item = args.value();
-            a.referenceMethod = findMethod(item);
-            if (!a.referenceMethod)
-                throw UsageError(name + ": unknown method '" + item + "' (available: " + methodNames() + ")");
-        } else if (name == "--no-chart") {
-            a.chart = false;
-        } else if (name == "--res") {
-            a.res = parseResolution(name, args.value());
-        } else if (name == "--seed") {
-            a.seed = parseUnsigned64(name, args.value());
-            a.seedGiven = true;
-        } else if (name == "--threads") {
-            a.threads = int(parseInteger(name, args.value(), 1, 1024));
-        } else {
-            args.unknown();
-        }
+const char* const kBenchDescription =
+    "Equal-time comparison of light-transport methods. Each method renders SCENE from\n"
+    "scratch for each time budget (whole passes until the budget is spent, fixed seed) and\n"
+    "is compared with a reference image r:\n"
+    "  rel_mse    = mean over pixels and channels of (x - r)^2 / (r^2 + 0.01)\n"
+    "  rmse       = sqrt(mean (x - r)^2)\n"
+    "  efficiency = 1 / (rel_mse * seconds), seconds as measured\n"
+    "Writes DIR/results.csv (the table also goes to stdout) and each method's image at the\n"
+    "largest budget as DIR/<method>.exr (':' becomes '_').";
+
+// The methods, then what Ctrl-C does.
+std::string benchFooter() {
+    std::string text = "methods:\n";
+    for (const BenchMethod& m : kMethods) {
+        char line[256];
+        std::snprintf(line, sizeof line, "  %-18s %s%s\n", m.name, m.what, m.byDefault ? "" : " (not by default)");
+        text += line;
     }
-    if (a.help) return a;
+    return text + "\nCtrl-C stops after the current pass; no results.csv is written (exit code 130).";
+}
+
+const BenchMethod* namedMethod(const std::string& what, const std::string& name) {
+    const BenchMethod* m = findMethod(name);
+    if (!m) throw UsageError(what + ": unknown method '" + name + "' (available: " + methodNames() + ")");
+    return m;
+}
+
+// The command line; false if help was asked for (and printed).
+bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
+    CLI::App app(kBenchDescription, "brume bench");
+    configureCommand(app, "SCENE --out DIR [options]");
+    app.footer(benchFooter());
+    bool methodsGiven = false, budgetsGiven = false;
+    addSceneArgument(app, a.scene);
+    addOption(app, "-o,--out", "DIR", "output directory, created if missing (required)", [&](const std::string& v) {
+        if (v.empty()) throw UsageError("--out: empty directory name");
+        a.outDir = v;
+    });
+    addOption(app, "--methods", "LIST", "comma-separated methods (default: all six); see below",
+              [&](const std::string& v) {
+                  for (const std::string& item : splitList("--methods", v)) {
+                      const BenchMethod* m = namedMethod("--methods", item);
+                      if (std::find(a.methods.begin(), a.methods.end(), m) != a.methods.end())
+                          throw UsageError("--methods: method '" + item + "' given twice");
+                      a.methods.push_back(m);
+                  }
+                  methodsGiven = true;
+              });
+    addOption(app, "--budgets", "LIST", "comma-separated time budgets in seconds (default 1,2,4)",
+              [&](const std::string& v) {
+                  for (const std::string& item : splitList("--budgets", v)) {
+                      double seconds = parsePositiveSeconds("--budgets", item, 1e6);
+                      if (std::find(a.budgets.begin(), a.budgets.end(), seconds) != a.budgets.end())
+                          throw UsageError("--budgets: budget " + item + " given twice");
+                      a.budgets.push_back(seconds);
+                  }
+                  budgetsGiven = true;
+              });
+    addOption(app, "--reference", "FILE",
+              "reference image (.exr or .pfm) of the benchmark's size; without it one is rendered with "
+              "pt:mis (seed 24301), cached as DIR/reference.exr + DIR/reference.json and reused while the "
+              "scene, the size, the spp, the method and the brume build match",
+              [&](const std::string& v) {
+                  if (v.empty()) throw UsageError("--reference: empty file name");
+                  a.reference = v;
+              });
+    addOption(app, "--reference-spp", "N", "spp of the rendered reference (default 1024)", [&](const std::string& v) {
+        a.referenceSpp = int(parseInteger("--reference-spp", v, 1, 1 << 24));
+        a.referenceSppGiven = true;
+    });
+    addOption(app, "--reference-method", "M",
+              "the method that renders the reference (default pt:mis; use a bdpt method where only light "
+              "tracing finds the light, e.g. caustics through glass)",
+              [&](const std::string& v) { a.referenceMethod = namedMethod("--reference-method", v); });
+    app.add_flag_callback("--no-chart", [&] { a.chart = false; },
+                          "skip the chart and report page (written otherwise by docs/bench/plot_bench.py with "
+                          "Debian's python3-matplotlib)");
+    addOption(app, "--res", "WxH", "image size (default 160x120)",
+              [&](const std::string& v) { a.res = parseResolution("--res", v); });
+    addOption(app, "--seed", "N", "seed of the benchmark renders (default 1)", [&](const std::string& v) {
+        a.seed = parseUnsigned64("--seed", v);
+        a.seedGiven = true;
+    });
+    addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
+              [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
+    if (!parseCommand(app, argv)) return false;
+
     if (a.scene.empty()) throw UsageError("bench: no scene file given");
     if (a.outDir.empty()) throw UsageError("bench: no output directory given (--out DIR)");
     if (!methodsGiven)
@@ -246,7 +244,7 @@ BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
     } else if (a.seed == kReferenceSeed) {
         throw UsageError("--seed: " + std::to_string(a.seed) + " is the seed of the rendered reference; pick another");
     }
-    return a;
+    return true;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -283,19 +281,10 @@ void writeTextFile(const std::string& path, const std::string& text) {
     }
 }
 
-// FNV-1a over the scene file's bytes, so a regenerated scene at the same path does not reuse
-// a stale reference. (Buffers in separate files are not covered; the bundled scenes embed
-// theirs.)
-std::string fileHash(const std::string& path) {
-    bool ok = false;
-    std::string bytes = readTextFile(path, &ok);
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (unsigned char c : bytes) {
-        h ^= c;
-        h *= 0x100000001b3ull;
-    }
+// 16 hex digits.
+std::string hex64(uint64_t value) {
     char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
     return text;
 }
 
@@ -316,8 +305,11 @@ std::string jsonString(const std::string& s) {
     return out + "\"";
 }
 
-// What a cached reference was rendered from: one "key": value pair per line of
-// reference.json. Values are kept as JSON text; a cache matches when every field does.
+// What a cached reference was rendered from, and by which build of brume (another build may
+// render differently): one "key": value pair per line of reference.json. Values are kept as
+// JSON text; a cache matches when every field does. The scene is keyed by the FNV-1a hash of
+// its bytes, so a regenerated scene at the same path does not reuse a stale reference
+// (buffers in separate files are not covered; the bundled scenes embed theirs).
 using Record = std::vector<std::pair<std::string, std::string>>;
 
 Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method) {
@@ -326,12 +318,13 @@ Record referenceRecord(const std::string& scenePath, Resolution res, int spp, co
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
     return {
         {"scene", jsonString(absolute.string())},
-        {"scene_fnv1a64", jsonString(fileHash(scenePath))},
+        {"scene_fnv1a64", jsonString(hex64(fnv1a64File(scenePath)))},
         {"width", std::to_string(res.width)},
         {"height", std::to_string(res.height)},
         {"spp", std::to_string(spp)},
         {"seed", std::to_string(kReferenceSeed)},
         {"method", jsonString(method)},
+        {"brume_build_fnv1a64", jsonString(buildIdentity())},
     };
 }
 
@@ -369,6 +362,7 @@ std::string cacheMismatch(const std::string& cachedText, const Record& wanted) {
         if (it == cached.end()) return "reference.json has no " + key;
         if (it->second != value) {
             if (key == "scene_fnv1a64") return "the scene file changed";
+            if (key == "brume_build_fnv1a64") return "made by another build of brume";
             if (key == "width" || key == "height") return "different resolution";
             return "different " + key;
         }
@@ -480,14 +474,8 @@ void writeChart(const std::string& dir) {
 }  // namespace
 
 int runBench(const std::vector<std::string>& argv) {
-    BenchArgs a = parseBenchArgs(argv);
-    if (a.help) {
-        std::fputs(kBenchUsage, stdout);
-        std::fputs("\nmethods:\n", stdout);
-        for (const BenchMethod& m : kMethods)
-            std::printf("  %-18s %s%s\n", m.name, m.what, m.byDefault ? "" : " (not by default)");
-        return kExitOk;
-    }
+    BenchArgs a;
+    if (!parseBenchArgs(argv, a)) return kExitOk;
 
     // Everything that can fail is checked before the first render.
     Scene scene(loadSceneDescription(a.scene));

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/film/film.h"
@@ -19,19 +20,6 @@
 
 namespace brume::cli {
 
-const char* const kRaybenchUsage =
-    "usage: brume raybench SCENE [--threads N] [--spp N] [--res WxH]\n"
-    "\n"
-    "Renders SCENE with the path tracer and reports its rays/s; traces as many random rays\n"
-    "(origins uniform in the scene's bounding sphere, uniform directions) with raw Embree\n"
-    "rtcIntersect1 on the same threads and reports their rays/s and the ratio; then renders\n"
-    "with 1 thread and with N threads and reports the speed-up.\n"
-    "\n"
-    "options:\n"
-    "  --threads N   threads (default: all hardware threads)\n"
-    "  --spp N       samples per pixel of each render (default 4)\n"
-    "  --res WxH     image size (default as for brume render)\n";
-
 namespace {
 
 struct BenchArgs {
@@ -39,31 +27,28 @@ struct BenchArgs {
     int threads = 0;
     int spp = 4;
     Resolution res;
-    bool help = false;
 };
 
-BenchArgs parseBenchArgs(const std::vector<std::string>& argv) {
-    BenchArgs a;
-    ArgScanner args(argv);
-    while (args.next()) {
-        const std::string& name = args.current();
-        if (!args.isOption()) {
-            if (!a.scene.empty()) throw UsageError("more than one scene given ('" + a.scene + "', '" + name + "')");
-            a.scene = name;
-        } else if (name == "-h" || name == "--help") {
-            a.help = true;
-        } else if (name == "--threads") {
-            a.threads = int(parseInteger(name, args.value(), 1, 1024));
-        } else if (name == "--spp") {
-            a.spp = int(parseInteger(name, args.value(), 1, 1 << 24));
-        } else if (name == "--res") {
-            a.res = parseResolution(name, args.value());
-        } else {
-            args.unknown();
-        }
-    }
-    if (!a.help && a.scene.empty()) throw UsageError("raybench: no scene file given");
-    return a;
+const char* const kRaybenchDescription =
+    "Renders SCENE with the path tracer and reports its rays/s; traces as many random rays\n"
+    "(origins uniform in the scene's bounding sphere, uniform directions) with raw Embree\n"
+    "rtcIntersect1 on the same threads and reports their rays/s and the ratio; then renders\n"
+    "with 1 thread and with N threads and reports the speed-up.";
+
+// The command line; false if help was asked for (and printed).
+bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
+    CLI::App app(kRaybenchDescription, "brume raybench");
+    configureCommand(app, "SCENE [--threads N] [--spp N] [--res WxH]");
+    addSceneArgument(app, a.scene);
+    addOption(app, "--threads", "N", "threads (default: all hardware threads)",
+              [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
+    addOption(app, "--spp", "N", "samples per pixel of each render (default 4)",
+              [&](const std::string& v) { a.spp = int(parseInteger("--spp", v, 1, 1 << 24)); });
+    addOption(app, "--res", "WxH", "image size (default as for brume render)",
+              [&](const std::string& v) { a.res = parseResolution("--res", v); });
+    if (!parseCommand(app, argv)) return false;
+    if (a.scene.empty()) throw UsageError("raybench: no scene file given");
+    return true;
 }
 
 struct RawResult {
@@ -141,11 +126,8 @@ double perSecond(double amount, double seconds) { return amount / (seconds > 0 ?
 }  // namespace
 
 int runRaybench(const std::vector<std::string>& argv) {
-    BenchArgs a = parseBenchArgs(argv);
-    if (a.help) {
-        std::fputs(kRaybenchUsage, stdout);
-        return kExitOk;
-    }
+    BenchArgs a;
+    if (!parseBenchArgs(argv, a)) return kExitOk;
     SceneDescription desc = loadSceneDescription(a.scene);
     Resolution res = imageResolution(desc.camera, a.res);
     Scene scene(std::move(desc));

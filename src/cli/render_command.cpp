@@ -15,6 +15,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
@@ -25,51 +26,6 @@
 #include "brume/render/renderer.h"
 
 namespace brume::cli {
-
-const char* const kRenderUsage =
-    "usage: brume render SCENE -o OUT [options]\n"
-    "\n"
-    "Renders a glTF scene and writes OUT (.exr: float linear RGB, .pfm: float linear RGB,\n"
-    ".png: 8-bit sRGB).\n"
-    "\n"
-    "options:\n"
-    "  -o, --output OUT     output image (required)\n"
-    "  --integrator NAME    bdpt (bidirectional path tracer; the default) or pt\n"
-    "                       (volumetric path tracer)\n"
-    "  --mis HEURISTIC      bdpt: power (the default) or balance\n"
-    "  --strategy-images DIR  bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted\n"
-    "                       contribution (they add up to the image; one extra render each,\n"
-    "                       for s + t - 2 up to min(max-depth, 5)); with --connect\n"
-    "                       equiangular or mis, s<S>_t<T>_ff.exr and s<S>_t<T>_ea.exr, the\n"
-    "                       free-flight and equi-angular variants, instead\n"
-    "  --spp N              samples per pixel (default 16)\n"
-    "  --time SECONDS       render whole passes until SECONDS are spent instead of --spp\n"
-    "  --max-depth N        most scattering events per path (default -1: unlimited)\n"
-    "  --no-nee             no next-event estimation (BSDF/phase sampling only)\n"
-    "  --connect MODE       light connections on medium segments: density (from the\n"
-    "                       free-flight point), equiangular, or mis (both; the default);\n"
-    "                       for bdpt: equi-angular variants of connection vertices\n"
-    "  --res WxH            image size (default 640 wide, height from the camera's aspect\n"
-    "                       ratio, 640x480 without one)\n"
-    "  --seed N             random seed (default 0); the same seed gives the same image\n"
-    "                       for any thread count\n"
-    "  --threads N          worker threads (default: all hardware threads)\n"
-    "  --checkpoint FILE    save the render's state to FILE every --checkpoint-every\n"
-    "                       seconds and when interrupted (written beside FILE and renamed\n"
-    "                       into place; removed once the image is complete); needs --spp\n"
-    "  --checkpoint-every SECONDS  seconds between checkpoints (default 60)\n"
-    "  --resume FILE        continue the render saved in checkpoint FILE: the result is\n"
-    "                       the same, bit for bit, as one that never stopped; scene file,\n"
-    "                       --res, --seed, --spp, --integrator, --connect, --max-depth,\n"
-    "                       --mis and --no-nee must be as before (use the same FILE for\n"
-    "                       --checkpoint to keep saving)\n"
-    "  -h, --help           this text\n"
-    "\n"
-    "SIGINT (Ctrl-C) and SIGTERM abandon the pass in flight, write the image of the passes\n"
-    "completed (and the checkpoint, with --checkpoint) and exit with 130 (SIGINT) or 143\n"
-    "(SIGTERM); if no pass was completed nothing is written. A second signal kills at once.\n"
-    "The summary line gives the size, spp, seconds, samples/s, rays/s, non-finite samples\n"
-    "dropped and the peak memory.\n";
 
 namespace {
 
@@ -93,67 +49,89 @@ struct RenderArgs {
     bool checkpointEveryGiven = false;
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
-    bool help = false;
 };
 
-RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
-    RenderArgs a;
-    ArgScanner args(argv);
-    while (args.next()) {
-        const std::string& name = args.current();
-        if (!args.isOption()) {
-            if (!a.scene.empty()) throw UsageError("more than one scene given ('" + a.scene + "', '" + name + "')");
-            a.scene = name;
-        } else if (name == "-h" || name == "--help") {
-            a.help = true;
-        } else if (name == "-o" || name == "--output") {
-            a.output = args.value();
-            if (a.output.empty()) throw UsageError(name + ": empty file name");
-        } else if (name == "--integrator") {
-            a.integrator = args.value();
-        } else if (name == "--spp") {
-            a.spp = int(parseInteger(name, args.value(), 1, 1 << 24));
-            a.sppGiven = true;
-        } else if (name == "--time") {
-            a.seconds = parsePositiveSeconds(name, args.value(), 1e7);
-        } else if (name == "--max-depth") {
-            a.maxDepth = int(parseInteger(name, args.value(), -1, 1000000));
-        } else if (name == "--no-nee") {
-            args.noValue();
-            a.nee = false;
-        } else if (name == "--strategy-images") {
-            a.strategyDir = args.value();
-        } else if (name == "--mis") {
-            std::string h = args.value();
-            if (h == "power") a.heuristic = MisHeuristic::Power;
-            else if (h == "balance") a.heuristic = MisHeuristic::Balance;
-            else throw UsageError("--mis: unknown heuristic '" + h + "' (power or balance)");
-        } else if (name == "--connect") {
-            std::string mode = args.value();
-            if (mode == "density") a.connect = ConnectMode::Density;
-            else if (mode == "equiangular") a.connect = ConnectMode::EquiAngular;
-            else if (mode == "mis") a.connect = ConnectMode::Mis;
-            else throw UsageError("--connect: unknown mode '" + mode + "' (density, equiangular or mis)");
-        } else if (name == "--res") {
-            a.res = parseResolution(name, args.value());
-        } else if (name == "--seed") {
-            a.seed = parseUnsigned64(name, args.value());
-        } else if (name == "--threads") {
-            a.threads = int(parseInteger(name, args.value(), 1, 1024));
-        } else if (name == "--checkpoint" || name == "--resume") {
-            std::string file = args.value();
-            if (file.empty()) throw UsageError(name + ": empty file name");
-            (name == "--checkpoint" ? a.checkpoint : a.resume) = file;
-        } else if (name == "--checkpoint-every") {
-            a.checkpointEvery = parsePositiveSeconds(name, args.value(), 1e7);
-            a.checkpointEveryGiven = true;
-        } else if (name == "--stop-after-passes") {  // for tests, deliberately not in the usage text
-            a.stopAfterPasses = int(parseInteger(name, args.value(), 0, 1 << 24));
-        } else {
-            args.unknown();
-        }
-    }
-    if (a.help) return a;
+const char* const kRenderDescription =
+    "Renders a glTF scene and writes OUT (.exr: float linear RGB, .pfm: float linear RGB,\n"
+    ".png: 8-bit sRGB).";
+
+const char* const kRenderFooter =
+    "SIGINT (Ctrl-C) and SIGTERM abandon the pass in flight, write the image of the passes\n"
+    "completed (and the checkpoint, with --checkpoint) and exit with 130 (SIGINT) or 143\n"
+    "(SIGTERM); if no pass was completed nothing is written. A second signal kills at once.\n"
+    "The summary line gives the size, spp, seconds, samples/s, rays/s, non-finite samples\n"
+    "dropped and the peak memory.";
+
+std::string nonEmptyFile(const std::string& what, const std::string& file) {
+    if (file.empty()) throw UsageError(what + ": empty file name");
+    return file;
+}
+
+// The command line; false if help was asked for (and printed).
+bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
+    CLI::App app(kRenderDescription, "brume render");
+    configureCommand(app, "SCENE -o OUT [options]");
+    app.footer(kRenderFooter);
+    addSceneArgument(app, a.scene);
+    addOption(app, "-o,--output", "OUT", "output image (required)",
+              [&](const std::string& v) { a.output = nonEmptyFile("--output", v); });
+    addOption(app, "--integrator", "NAME", "bdpt (bidirectional path tracer; the default) or pt (volumetric path tracer)",
+              [&](const std::string& v) { a.integrator = v; });
+    addOption(app, "--mis", "HEURISTIC", "bdpt: power (the default) or balance", [&](const std::string& v) {
+        if (v == "power") a.heuristic = MisHeuristic::Power;
+        else if (v == "balance") a.heuristic = MisHeuristic::Balance;
+        else throw UsageError("--mis: unknown heuristic '" + v + "' (power or balance)");
+    });
+    addOption(app, "--strategy-images", "DIR",
+              "bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted contribution (they add up to "
+              "the image; one extra render each, for s + t - 2 up to min(max-depth, 5)); with --connect "
+              "equiangular or mis, s<S>_t<T>_ff.exr and s<S>_t<T>_ea.exr, the free-flight and "
+              "equi-angular variants, instead",
+              [&](const std::string& v) { a.strategyDir = v; });
+    addOption(app, "--spp", "N", "samples per pixel (default 16)", [&](const std::string& v) {
+        a.spp = int(parseInteger("--spp", v, 1, 1 << 24));
+        a.sppGiven = true;
+    });
+    addOption(app, "--time", "SECONDS", "render whole passes until SECONDS are spent instead of --spp",
+              [&](const std::string& v) { a.seconds = parsePositiveSeconds("--time", v, 1e7); });
+    addOption(app, "--max-depth", "N", "most scattering events per path (default -1: unlimited)",
+              [&](const std::string& v) { a.maxDepth = int(parseInteger("--max-depth", v, -1, 1000000)); });
+    app.add_flag_callback("--no-nee", [&] { a.nee = false; }, "no next-event estimation (BSDF/phase sampling only)");
+    addOption(app, "--connect", "MODE",
+              "light connections on medium segments: density (from the free-flight point), equiangular, or "
+              "mis (both; the default); for bdpt: equi-angular variants of connection vertices",
+              [&](const std::string& v) {
+                  if (v == "density") a.connect = ConnectMode::Density;
+                  else if (v == "equiangular") a.connect = ConnectMode::EquiAngular;
+                  else if (v == "mis") a.connect = ConnectMode::Mis;
+                  else throw UsageError("--connect: unknown mode '" + v + "' (density, equiangular or mis)");
+              });
+    addOption(app, "--res", "WxH",
+              "image size (default 640 wide, height from the camera's aspect ratio, 640x480 without one)",
+              [&](const std::string& v) { a.res = parseResolution("--res", v); });
+    addOption(app, "--seed", "N", "random seed (default 0); the same seed gives the same image for any thread count",
+              [&](const std::string& v) { a.seed = parseUnsigned64("--seed", v); });
+    addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
+              [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
+    addOption(app, "--checkpoint", "FILE",
+              "save the render's state to FILE every --checkpoint-every seconds and when interrupted "
+              "(written beside FILE and renamed into place; removed once the image is complete); needs --spp",
+              [&](const std::string& v) { a.checkpoint = nonEmptyFile("--checkpoint", v); });
+    addOption(app, "--checkpoint-every", "SECONDS", "seconds between checkpoints (default 60)",
+              [&](const std::string& v) {
+                  a.checkpointEvery = parsePositiveSeconds("--checkpoint-every", v, 1e7);
+                  a.checkpointEveryGiven = true;
+              });
+    addOption(app, "--resume", "FILE",
+              "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
+              "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis and "
+              "--no-nee must be as before (use the same FILE for --checkpoint to keep saving)",
+              [&](const std::string& v) { a.resume = nonEmptyFile("--resume", v); });
+    // For tests: as if SIGTERM came after N passes. No description: not in the help.
+    addOption(app, "--stop-after-passes", "N", "",
+              [&](const std::string& v) { a.stopAfterPasses = int(parseInteger("--stop-after-passes", v, 0, 1 << 24)); });
+    if (!parseCommand(app, argv)) return false;
+
     if (a.scene.empty()) throw UsageError("render: no scene file given");
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
     if (a.integrator != "pt" && a.integrator != "bdpt")
@@ -167,7 +145,7 @@ RenderArgs parseRenderArgs(const std::vector<std::string>& argv) {
     if (!a.resume.empty() && a.seconds > 0) throw UsageError("--resume needs --spp, not --time");
     if (!a.checkpoint.empty() && a.checkpoint == a.output)
         throw UsageError("--checkpoint and --output name the same file '" + a.output + "'");
-    return a;
+    return true;
 }
 
 std::atomic<bool> gInterrupted{false};
@@ -208,7 +186,7 @@ extern "C" void onSignal(int sig) {
     gInterrupted.store(true);
 }
 
-// The first SIGINT or SIGTERM asks the renderer to stop (see kRenderUsage); SA_RESETHAND
+// The first SIGINT or SIGTERM asks the renderer to stop (see kRenderFooter); SA_RESETHAND
 // makes a second one kill the process as usual. SA_RESTART keeps the file writes going.
 void catchSignals() {
     struct sigaction sa {};
@@ -281,11 +259,8 @@ std::string absolutePath(const std::string& path) {
 }  // namespace
 
 int runRender(const std::vector<std::string>& argv) {
-    RenderArgs a = parseRenderArgs(argv);
-    if (a.help) {
-        std::fputs(kRenderUsage, stdout);
-        return kExitOk;
-    }
+    RenderArgs a;
+    if (!parseRenderArgs(argv, a)) return kExitOk;
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {

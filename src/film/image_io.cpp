@@ -4,6 +4,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -72,17 +74,9 @@ void putLittleEndian(float f, unsigned char* out) {
     out[3] = static_cast<unsigned char>(bits >> 24);
 }
 
-float getFloat(const unsigned char* in, bool littleEndian) {
-    uint32_t bits = littleEndian ? (uint32_t(in[0]) | uint32_t(in[1]) << 8 | uint32_t(in[2]) << 16 |
-                                    uint32_t(in[3]) << 24)
-                                 : (uint32_t(in[3]) | uint32_t(in[2]) << 8 | uint32_t(in[1]) << 16 |
-                                    uint32_t(in[0]) << 24);
-    float f;
-    std::memcpy(&f, &bits, 4);
-    return f;
-}
-
-// PFM: "PF\n<w> <h>\n-1.0\n", then little-endian floats, bottom row first.
+// PFM: "PF\n<w> <h>\n-1.0\n", then little-endian floats, bottom row first. Written here:
+// OpenImageIO 2.4 (Debian 12) reads PFM but has no PFM writer (its PNM writer makes 8-bit
+// P6 files).
 void writePfm(const std::string& file, int width, int height, const std::vector<float>& rgb) {
     std::FILE* f = std::fopen(file.c_str(), "wb");
     if (!f) throw std::runtime_error(std::strerror(errno));
@@ -101,17 +95,31 @@ void writePfm(const std::string& file, int width, int height, const std::vector<
     if (!ok) throw std::runtime_error(std::string("cannot write: ") + std::strerror(savedErrno));
 }
 
-float srgbEncode(float linear) {
-    float c = std::isnan(linear) ? 0.0f : std::clamp(linear, 0.0f, 1.0f);
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+// 8-bit sRGB: clamped to [0, 1] (NaN to 0), then OpenImageIO's linear → sRGB transfer
+// function and its rounding to 8 bits.
+std::vector<unsigned char> srgbBytes(int width, int height, const std::vector<float>& rgb) {
+    std::vector<float> clamped(rgb.size());
+    for (size_t i = 0; i < rgb.size(); ++i) clamped[i] = std::isnan(rgb[i]) ? 0.0f : std::clamp(rgb[i], 0.0f, 1.0f);
+    OIIO::ImageBuf linear(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT), clamped.data());
+    OIIO::ImageBuf encoded = OIIO::ImageBufAlgo::colorconvert(linear, "linear", "sRGB");
+    std::vector<unsigned char> bytes(rgb.size());
+    if (encoded.has_error() || !encoded.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::UINT8, bytes.data()))
+        throw std::runtime_error("sRGB encoding: " + firstLine(encoded.geterror()));
+    return bytes;
 }
 
-float srgbDecode(float encoded) {
-    return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
+// sRGB-encoded float RGB (as read from a PNG) to linear, in place.
+void decodeSrgb(int width, int height, std::vector<float>& rgb) {
+    OIIO::ImageBuf encoded(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT), rgb.data());
+    OIIO::ImageBuf linear = OIIO::ImageBufAlgo::colorconvert(encoded, "sRGB", "linear");
+    if (linear.has_error() || !linear.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, rgb.data()))
+        throw std::runtime_error("sRGB decoding: " + firstLine(linear.geterror()));
 }
 
 void writeWithOiio(const std::string& file, ImageFormat format, int width, int height,
                    const std::vector<float>& rgb) {
+    std::vector<unsigned char> srgb;
+    if (format == ImageFormat::Png) srgb = srgbBytes(width, height, rgb);
     auto out = OIIO::ImageOutput::create(file);
     if (!out) throw std::runtime_error(firstLine(OIIO::geterror()));
     OIIO::TypeDesc type = format == ImageFormat::Png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
@@ -123,10 +131,7 @@ void writeWithOiio(const std::string& file, ImageFormat format, int width, int h
     bool ok = out->open(file, spec);
     if (ok) {
         if (format == ImageFormat::Png) {
-            std::vector<unsigned char> bytes(rgb.size());
-            for (size_t i = 0; i < rgb.size(); ++i)
-                bytes[i] = static_cast<unsigned char>(std::lround(srgbEncode(rgb[i]) * 255.0f));
-            ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+            ok = out->write_image(OIIO::TypeDesc::UINT8, srgb.data());
         } else {
             ok = out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
         }
@@ -139,56 +144,14 @@ void writeWithOiio(const std::string& file, ImageFormat format, int width, int h
     if (!ok) throw std::runtime_error(firstLine(message));
 }
 
-std::vector<float> readPfm(const std::string& path, int* width, int* height) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) fail(path, std::strerror(errno));
-    std::vector<unsigned char> data;
-    unsigned char buffer[65536];
-    size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) data.insert(data.end(), buffer, buffer + n);
-    bool readError = std::ferror(f) != 0;
-    std::fclose(f);
-    if (readError) fail(path, "read error");
-
-    // Header: three whitespace-separated tokens after the magic, then one whitespace byte.
-    size_t pos = 0;
-    auto token = [&]() -> std::string {
-        while (pos < data.size() && std::isspace(data[pos])) ++pos;
-        size_t begin = pos;
-        while (pos < data.size() && !std::isspace(data[pos])) ++pos;
-        return std::string(data.begin() + begin, data.begin() + pos);
-    };
-    std::string magic = token();
-    if (magic != "PF" && magic != "Pf") fail(path, "not a PFM file");
-    int channels = magic == "PF" ? 3 : 1;
-    long w = 0, h = 0;
-    double scale = 0;
-    try {
-        w = std::stol(token());
-        h = std::stol(token());
-        scale = std::stod(token());
-    } catch (const std::exception&) {
-        fail(path, "bad PFM header");
-    }
-    if (w <= 0 || h <= 0 || w > (1 << 20) || h > (1 << 20) || scale == 0) fail(path, "bad PFM header");
-    ++pos;  // the single whitespace byte before the data
-    size_t expected = size_t(w) * size_t(h) * size_t(channels) * 4;
-    if (pos > data.size() || data.size() - pos < expected) fail(path, "PFM file is truncated");
-    bool little = scale < 0;
-
-    std::vector<float> rgb(3 * size_t(w) * size_t(h));
-    const unsigned char* src = data.data() + pos;
-    for (long row = 0; row < h; ++row) {
-        long y = h - 1 - row;  // bottom row first in the file
-        for (long x = 0; x < w; ++x) {
-            float* dst = &rgb[3 * (size_t(y) * size_t(w) + size_t(x))];
-            const unsigned char* p = src + 4 * size_t(channels) * (size_t(row) * size_t(w) + size_t(x));
-            for (int c = 0; c < 3; ++c) dst[c] = getFloat(p + 4 * (channels == 3 ? c : 0), little);
-        }
-    }
-    *width = int(w);
-    *height = int(h);
-    return rgb;
+// PFM holds raw floats: a header promising more than the file holds is refused before the
+// pixels are allocated.
+void checkPfmSize(const std::string& path, const OIIO::ImageSpec& spec) {
+    struct stat st;
+    uint64_t needed = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) * 4;
+    if (::stat(path.c_str(), &st) != 0 || uint64_t(st.st_size) < needed)
+        fail(path, "PFM file is truncated (its header promises " + std::to_string(spec.width) + "x" +
+                       std::to_string(spec.height) + " pixels)");
 }
 
 std::vector<float> readWithOiio(const std::string& path, ImageFormat format, int* width, int* height) {
@@ -197,16 +160,25 @@ std::vector<float> readWithOiio(const std::string& path, ImageFormat format, int
     const OIIO::ImageSpec& spec = in->spec();
     int w = spec.width, h = spec.height, channels = spec.nchannels;
     if (w <= 0 || h <= 0 || channels <= 0) fail(path, "empty image");
+    if (format == ImageFormat::Pfm) checkPfmSize(path, spec);
     std::vector<float> all(size_t(w) * size_t(h) * size_t(channels));
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data())) fail(path, firstLine(in->geterror()));
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data())) {
+        std::string message = in->geterror();  // OpenImageIO 2.4 says nothing about a short PFM
+        fail(path, message.empty() ? "truncated or damaged pixel data" : firstLine(message));
+    }
     in->close();
 
+    // One channel is replicated to three, a fourth (alpha) dropped.
     std::vector<float> rgb(3 * size_t(w) * size_t(h));
     for (size_t i = 0; i < size_t(w) * size_t(h); ++i)
-        for (int c = 0; c < 3; ++c) {
-            float v = all[i * size_t(channels) + size_t(channels >= 3 ? c : 0)];
-            rgb[3 * i + size_t(c)] = format == ImageFormat::Png ? srgbDecode(v) : v;
+        for (int c = 0; c < 3; ++c) rgb[3 * i + size_t(c)] = all[i * size_t(channels) + size_t(channels >= 3 ? c : 0)];
+    if (format == ImageFormat::Png) {
+        try {
+            decodeSrgb(w, h, rgb);
+        } catch (const std::exception& e) {
+            fail(path, e.what());
         }
+    }
     *width = w;
     *height = h;
     return rgb;
@@ -264,7 +236,6 @@ std::vector<float> readImage(const std::string& path, int* width, int* height) {
     } catch (const std::invalid_argument& e) {
         throw std::runtime_error(e.what());
     }
-    if (format == ImageFormat::Pfm) return readPfm(path, width, height);
     return readWithOiio(path, format, width, height);
 }
 

@@ -1,19 +1,15 @@
-// The brume sub-commands. Each takes the arguments after its name and returns the exit code;
-// problems are thrown (UsageError → 2, SceneError and other run-time errors → 1) and
-// reported by main().
+// The brume sub-commands. Each takes the arguments after its name (parsed by CLI11, see
+// command_line.h) and returns the exit code; problems are thrown (UsageError → 2, SceneError
+// and other run-time errors → 1) and reported by main().
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "brume/cli/args.h"
+#include "brume/cli/value_parsers.h"
 #include "brume/scene/scene.h"
 
 namespace brume::cli {
-
-extern const char* const kRenderUsage;
-extern const char* const kRaybenchUsage;
-extern const char* const kBenchUsage;
 
 int runRender(const std::vector<std::string>& args);
 int runRaybench(const std::vector<std::string>& args);

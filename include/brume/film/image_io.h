@@ -1,7 +1,9 @@
 // Image files. The extension picks the format:
-//   .exr  32-bit float linear RGB (OpenImageIO)
-//   .pfm  32-bit float linear RGB, portable float map (written and read here)
-//   .png  8-bit sRGB-encoded, clamped to [0, 1] (OpenImageIO)
+//   .exr  32-bit float linear RGB
+//   .pfm  32-bit float linear RGB, portable float map
+//   .png  8-bit sRGB-encoded, clamped to [0, 1]
+// OpenImageIO reads and writes them all, sRGB conversions included, but for writing PFM
+// (OpenImageIO 2.4 has no PFM writer). The same pixels give the same bytes: no dates.
 // Pixels are float RGB, row-major, top row first, 3·w·h values.
 #pragma once
 #include <string>

@@ -1,4 +1,4 @@
-#include "brume/cli/args.h"
+#include "brume/cli/value_parsers.h"
 
 #include <cctype>
 #include <cerrno>
@@ -6,42 +6,6 @@
 #include <cstdlib>
 
 namespace brume::cli {
-
-bool ArgScanner::next() {
-    for (;;) {
-        if (index_ >= args_.size()) return false;
-        std::string arg = args_[index_++];
-        hasInlineValue_ = false;
-        inlineValue_.clear();
-        if (!optionsEnded_ && arg == "--") {
-            optionsEnded_ = true;
-            continue;
-        }
-        option_ = !optionsEnded_ && arg.size() > 1 && arg[0] == '-';
-        if (option_ && arg.compare(0, 2, "--") == 0) {
-            size_t eq = arg.find('=');
-            if (eq != std::string::npos) {
-                inlineValue_ = arg.substr(eq + 1);
-                hasInlineValue_ = true;
-                arg.resize(eq);
-            }
-        }
-        name_ = arg;
-        return true;
-    }
-}
-
-std::string ArgScanner::value() {
-    if (hasInlineValue_) return inlineValue_;
-    if (index_ >= args_.size()) throw UsageError(name_ + " needs a value");
-    return args_[index_++];
-}
-
-void ArgScanner::noValue() const {
-    if (hasInlineValue_) throw UsageError(name_ + " takes no value");
-}
-
-void ArgScanner::unknown() const { throw UsageError("unknown option '" + name_ + "'"); }
 
 int64_t parseInteger(const std::string& what, const std::string& text, int64_t lo, int64_t hi) {
     const char* s = text.c_str();

@@ -54,11 +54,11 @@ inline WalkSegment leaving(Vec3 p, Vec3 ng, Vec3 d, float end = kInfinity, bool 
     s.d = d;
     s.end = end;
     Vec3 q = dot(ng, ng) > 0 ? offsetOrigin(p, ng, d) : p;
+    // The query runs parallel to the segment: its t opposite the end is end − (q − p)·d.
     float reach = end;
     if (!std::isinf(end)) {
-        Vec3 b = p + d * end;
-        reach = length(b - q);
-        if (endOnSurface) reach -= rayEpsilon(b);
+        reach = end - dot(q - p, d);
+        if (endOnSurface) reach -= rayEpsilon(p + d * end);
     }
     s.query = Ray{q, d, reach};
     s.to = to;

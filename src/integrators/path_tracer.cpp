@@ -163,9 +163,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         BoundaryWalk walk(scene, ray, media, stats);
         BoundaryPiece piece;
         bool scattered = false;
-        SurfaceHit hit;
         while (walk.next(&piece)) {
-            hit = piece.hit;
             const uint32_t repeat = uint32_t(piece.index);
             const Medium* m = piece.medium;
             if (!m) {
@@ -206,6 +204,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             ray = leaving(v.p, Vec3(0.0f), wi);
             if (!isFinite(beta) || isBlack(beta)) break;
         } else {
+            const SurfaceHit& hit = piece.hit;  // what ended the walk
             if (!hit.valid() || piece.boundary || isBlack(beta)) break;
 
             // Emission reached by the camera ray or by BSDF/phase sampling (strategy B).

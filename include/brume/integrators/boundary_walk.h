@@ -9,6 +9,7 @@
 // from either end: an edge's free-flight densities are the same both ways, whichever
 // strategy asks.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "brume/integrators/integrator.h"
@@ -47,8 +48,8 @@ inline Vec3 offsetOrigin(Vec3 p, Vec3 ng, Vec3 d) {
 // The segment leaving p in direction d over [0, end]: from a surface with geometric normal ng
 // (zero: not on a surface, e.g. a medium point, a point light or the pinhole); endOnSurface:
 // the end is on a surface (its primitive `to`), which the query stops short of.
-inline WalkSegment leaving(Vec3 p, Vec3 ng, Vec3 d, float end = kInfinity, bool endOnSurface = false,
-                           const ShadowTarget& to = ShadowTarget{}) {
+inline WalkSegment leaving(const Vec3& p, const Vec3& ng, const Vec3& d, float end = kInfinity,
+                           bool endOnSurface = false, const ShadowTarget& to = ShadowTarget{}) {
     WalkSegment s;
     s.o = p;
     s.d = d;
@@ -83,7 +84,7 @@ public:
     // The next piece; false once the last one (ended by a surface other than an invisible
     // boundary, by the segment's end, or by escaping) has been given, or after 64 crossings (a
     // pathological stack of boundaries, to be treated as blocked: see exhausted()).
-    bool next(BoundaryPiece* piece);
+    inline bool next(BoundaryPiece* piece);
 
     // The media of the last piece given (its end's boundary not yet crossed).
     const MediumStack& media() const { return media_; }
@@ -106,5 +107,51 @@ private:
     int entered_ = 0;  // index of the last piece given  // the medium the last piece's boundary toggles, applied by next()
     bool done_ = false;
 };
+
+// Inline: it runs for every ray, and its pieces stay in registers.
+inline bool BoundaryWalk::next(BoundaryPiece* piece) {
+    if (done_ || crossings_ >= kMaxCrossings) return false;
+    if (toggle_ >= 0) media_.toggle(toggle_);  // leave the last piece's boundary behind
+    toggle_ = -1;
+    entered_ = crossings_;
+    piece->t0 = start_;
+    piece->medium = scene_.medium(media_.current());
+    piece->index = crossings_;
+    piece->boundary = false;
+    if (!(query_.tmin < query_.tmax)) {
+        // Nothing left to search (the last boundary lay within its step of the end, or the
+        // segment is shorter than its ends' steps): the rest, without a query.
+        piece->t1 = end_;
+        piece->hit = SurfaceHit{};
+        done_ = true;
+        return true;
+    }
+    ++stats_.rays;
+    piece->hit = scene_.intersect(query_);
+    const SurfaceHit& hit = piece->hit;
+    if (!hit.valid() || to_.is(hit)) {
+        piece->hit = SurfaceHit{};
+        piece->t1 = end_;
+        done_ = true;
+        return true;
+    }
+    piece->boundary = hit.mesh >= 0 && scene_.material(hit.mesh).kind == MaterialKind::Invisible;
+    if (!piece->boundary) {
+        // A surface ends the walk here: the query's distance to it.
+        piece->t1 = std::clamp(hit.t + dot(query_.o - o_, d_), start_, end_);
+        done_ = true;
+        return true;
+    }
+    // Where the exact segment meets the boundary triangle's plane (the same point from either
+    // end); along the query's own t if the segment runs in that plane.
+    float dn = dot(d_, hit.ng);
+    float t = std::abs(dn) > 1e-4f ? dot(hit.p - o_, hit.ng) / dn : hit.t + dot(query_.o - o_, d_);
+    piece->t1 = std::clamp(t, start_, end_);
+    toggle_ = scene_.mesh(hit.mesh).interiorMedium;
+    ++crossings_;
+    start_ = piece->t1;
+    query_.tmin = hit.t + rayEpsilon(hit.p);
+    return true;
+}
 
 }  // namespace brume

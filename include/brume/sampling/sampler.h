@@ -1,9 +1,10 @@
 // Random numbers for one pixel sample, asked for by place: every sampling decision names the
 // dimension it reads (integrators/sample_dimensions.h keeps the table), so the number a
 // decision gets does not depend on how many numbers other decisions drew before it. That is
-// what a low-discrepancy sampler needs; behind this interface today is PCG32, keyed by
-// (seed, pixel, pass, dimension): the image does not depend on which thread renders which
-// pixel, and a light subpath does not depend on the camera subpath's length.
+// what a low-discrepancy sampler needs. Behind this interface today: independent numbers, a
+// hash of (seed, pixel, pass, dimension) (PCG32 streams for the sequential draws of tests and
+// tools). The image does not depend on which thread renders which pixel, and a light subpath
+// does not depend on the camera subpath's length.
 #pragma once
 #include <cstdint>
 
@@ -67,22 +68,17 @@ private:
 class Sampler {
 public:
     Sampler(uint64_t seed, uint64_t pixel, uint64_t pass)
-        : base_(mixBits(mixBits(seed ^ mixBits(pixel)) ^ mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL)))),
-          sequential_(mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))) {}
+        : Sampler(Keys{mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))}) {}
 
     // The number at dimension `dim`. `repeat` > 0: the repeat-th further draw of a decision
     // that may draw a variable number of times (invisible-boundary pieces, tracking steps),
     // from a hashed stream seeded by its dimension; repeat 0 is the dimension itself.
-    // The (seed, pixel, pass) key is hashed once, here with the dimension a second time, and
-    // PCG32's output permutation makes the 32 bits: every key reaches the state through the
-    // hash (PCG32 streams that differ only in their increment start from states a fixed
-    // offset apart, and their first outputs are correlated pass to pass).
-    float get1D(uint32_t dim, uint32_t repeat = 0) const {
-        uint64_t d = uint64_t(dim) | (uint64_t(repeat) << 32);
-        return toUnitFloat(Pcg32::output(mixBits(base_ ^ (d * 0xD1B54A32D192ED03ULL))));
+    float get1D(uint32_t dim, uint32_t repeat = 0) const { return toUnit(hash(dim, repeat) >> 40); }
+    // Dimensions dim and dim + 1 (one hash: 24 bits of it for each).
+    Sample2 get2D(uint32_t dim, uint32_t repeat = 0) const {
+        uint64_t h = hash(dim, repeat);
+        return {toUnit(h >> 40), toUnit((h >> 8) & 0xFFFFFFu)};
     }
-    // Dimensions dim and dim + 1.
-    Sample2 get2D(uint32_t dim, uint32_t repeat = 0) const { return {get1D(dim, repeat), get1D(dim + 1, repeat)}; }
 
     // A sequential stream of this pixel sample's own, apart from the dimensions above: for
     // tests and tools, never for an integrator's decisions.
@@ -90,6 +86,21 @@ public:
     Sample2 next2D() { return sequential_.next2D(); }
 
 private:
+    struct Keys {
+        uint64_t key, stream;  // of (seed, pixel) and of (seed, pass)
+    };
+    explicit Sampler(Keys k) : base_(mixBits(k.key ^ k.stream)), sequential_(k.key, k.stream) {}
+
+    // The (seed, pixel, pass) key is hashed once (constructor), here with the place a second
+    // time (SplitMix64's finaliser): every key reaches the bits through the hash. (PCG32
+    // streams that differ only in their increment start from states a fixed offset apart,
+    // and their first outputs are correlated pass to pass.)
+    uint64_t hash(uint32_t dim, uint32_t repeat) const {
+        uint64_t d = uint64_t(dim) | (uint64_t(repeat) << 32);
+        return mixBits(base_ ^ (d * 0xD1B54A32D192ED03ULL));
+    }
+    static float toUnit(uint64_t bits24) { return float(bits24) * 0x1p-24f; }
+
     uint64_t base_;
     Rng sequential_;
 };

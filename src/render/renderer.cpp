@@ -28,8 +28,10 @@ double secondsSince(Clock::time_point start) {
 }
 
 // Counters of one tile in the current pass; summed only when the pass completes, so a
-// dropped pass leaves no trace in the statistics either.
-struct TileCounters {
+// dropped pass leaves no trace in the statistics either. A cache line each: workers count
+// every ray into their tile's counters, and neighbouring tiles are rendered at the same time
+// (sharing a line slowed cheap rays down by up to a quarter on 2 threads).
+struct alignas(64) TileCounters {
     uint64_t samples = 0;
     uint64_t nonFinite = 0;
     PathStats path;

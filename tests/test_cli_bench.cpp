@@ -16,32 +16,20 @@
 #include <vector>
 
 #include "brume/film/image_io.h"
+#include "support/run_brume.h"
 #include "support/scratch_files.h"
 
 namespace fs = std::filesystem;
 
+using brume::test::BrumeResult;
 using brume::test::quote;
+using brume::test::runBrume;
 using brume::test::readFile;
 using brume::test::TempDir;
 
 namespace {
 
-struct Run {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-Run runBrume(const std::string& arguments) {
-    TempDir capture;
-    std::string command = quote(BRUME_EXE) + " " + arguments + " </dev/null >" + quote(capture / "out") +
-                          " 2>" + quote(capture / "err");
-    int status = std::system(command.c_str());
-    Run run;
-    if (WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
-    run.out = readFile(capture / "out");
-    run.err = readFile(capture / "err");
-    return run;
-}
+using Run = BrumeResult;
 
 std::vector<std::string> split(const std::string& text, char separator) {
     std::vector<std::string> parts;
@@ -65,7 +53,7 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
 
     Run first = runBrume(command);
     INFO("stdout: " << first.out << "\nstderr: " << first.err);
-    REQUIRE(first.exitCode == 0);
+    REQUIRE(first.code == 0);
     CHECK(contains(first.out, "rel_mse"));
     CHECK(contains(first.out, "(r^2 + 0.01)"));
     CHECK_FALSE(contains(first.out, "reused"));
@@ -105,13 +93,13 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
 
     Run second = runBrume(command);
     INFO("second stdout: " << second.out << "\nsecond stderr: " << second.err);
-    CHECK(second.exitCode == 0);
+    CHECK(second.code == 0);
     CHECK(contains(second.out, "reused"));
 
     // A different reference spp does not match the cache.
     Run third = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
                       " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart");
-    CHECK(third.exitCode == 0);
+    CHECK(third.code == 0);
     CHECK_FALSE(contains(third.out, "reused"));
     CHECK_FALSE(contains(third.out, "chart"));
 
@@ -119,7 +107,7 @@ TEST_CASE("bench: results table, method images, reference cache", "[cli][bench]"
     Run fourth = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
                           " --res 24x24 --budgets 0.05 --reference-spp 8 --methods pt:mis --no-chart"
                           " --reference-method bdpt:density");
-    CHECK(fourth.exitCode == 0);
+    CHECK(fourth.code == 0);
     CHECK_FALSE(contains(fourth.out, "reused"));
     CHECK(contains(readFile(dir + "/reference.json"), "\"bdpt:density\""));
 }
@@ -128,13 +116,13 @@ TEST_CASE("bench: usage errors exit with 2", "[cli][bench]") {
     TempDir scratch;
     const std::string dir = (scratch / "out");
     Run run = runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --methods pt:density,pt:nope");
-    CHECK(run.exitCode == 2);
+    CHECK(run.code == 2);
     CHECK(run.err.rfind("brume: error: ", 0) == 0);
     CHECK(contains(run.err, "pt:nope"));
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(dir));
 
-    CHECK(runBrume("bench " + quote(kScene)).exitCode == 2);  // no --out
-    CHECK(runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --budgets 1,-2").exitCode == 2);
-    CHECK(runBrume("bench --help").exitCode == 0);
+    CHECK(runBrume("bench " + quote(kScene)).code == 2);  // no --out
+    CHECK(runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --budgets 1,-2").code == 2);
+    CHECK(runBrume("bench --help").code == 0);
 }

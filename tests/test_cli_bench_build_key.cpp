@@ -10,31 +10,19 @@
 #include <string>
 
 #include "brume/render/fnv1a.h"
+#include "support/run_brume.h"
 #include "support/scratch_files.h"
 
+using brume::test::BrumeResult;
 using brume::test::quote;
+using brume::test::runBrume;
 using brume::test::readFile;
 using brume::test::TempDir;
 using brume::test::writeFile;
 
 namespace {
 
-struct Run {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-Run runBrume(const std::string& arguments) {
-    TempDir capture;
-    std::string command = quote(BRUME_EXE) + " " + arguments + " </dev/null >" + quote(capture / "out") +
-                          " 2>" + quote(capture / "err");
-    int status = std::system(command.c_str());
-    Run run;
-    if (WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
-    run.out = readFile(capture / "out");
-    run.err = readFile(capture / "err");
-    return run;
-}
+using Run = BrumeResult;
 
 bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
 
@@ -54,7 +42,7 @@ TEST_CASE("bench: a reference made by another build of brume is remade, not reus
 
     Run first = runBrume(command);
     INFO("stdout: " << first.out << "\nstderr: " << first.err);
-    REQUIRE(first.exitCode == 0);
+    REQUIRE(first.code == 0);
     const std::string record = readFile(dir + "/reference.json");
     const std::string thisBuild = hex64(brume::fnv1a64File(BRUME_EXE));
     const std::string key = "\"brume_build_fnv1a64\": \"" + thisBuild + "\"";
@@ -62,7 +50,7 @@ TEST_CASE("bench: a reference made by another build of brume is remade, not reus
 
     // The cache is reused while nothing changes (so that what follows means something).
     Run second = runBrume(command);
-    REQUIRE(second.exitCode == 0);
+    REQUIRE(second.code == 0);
     CHECK(contains(second.out, "reference: reused"));
 
     // The same record as another build would have written it.
@@ -74,7 +62,7 @@ TEST_CASE("bench: a reference made by another build of brume is remade, not reus
 
     Run third = runBrume(command);
     INFO("third stdout: " << third.out << "\nthird stderr: " << third.err);
-    REQUIRE(third.exitCode == 0);
+    REQUIRE(third.code == 0);
     CHECK_FALSE(contains(third.out, "reused"));
     CHECK(contains(third.out, "made by another build of brume"));
     CHECK(readFile(dir + "/reference.json") == record);  // remade, keyed by this build

@@ -9,30 +9,18 @@
 #include <string>
 
 #include "brume/film/image_io.h"
+#include "support/run_brume.h"
 #include "support/scratch_files.h"
 
+using brume::test::BrumeResult;
 using brume::test::quote;
+using brume::test::runBrume;
 using brume::test::readFile;
 using brume::test::TempDir;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
-
-Result runBrume(const std::string& args) {
-    TempDir capture;
-    std::string command = quote(BRUME_EXE) + " " + args + " >" + quote(capture / "out") + " 2>" +
-                          quote(capture / "err") + " </dev/null";
-    int status = std::system(command.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readFile(capture / "out");
-    r.err = readFile(capture / "err");
-    return r;
-}
+using Result = BrumeResult;
 
 bool contains(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
 

@@ -24,35 +24,21 @@
 
 #include "brume/film/image_io.h"
 
+#include "support/run_brume.h"
 #include "support/scratch_files.h"
 
 namespace fs = std::filesystem;
 
+using brume::test::BrumeResult;
 using brume::test::quote;
+using brume::test::runBrume;
 using brume::test::readFile;
 using brume::test::TempDir;
 using brume::test::writeFile;
 
 namespace {
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
-
-// Runs `brume ARGS` with stdout and stderr captured (in a directory of their own, so the
-// output directories of the tests hold only what brume writes).
-Result runBrume(const std::string& args) {
-    TempDir capture;
-    std::string command = quote(BRUME_EXE) + " " + args + " >" + quote(capture / "out") + " 2>" +
-                          quote(capture / "err") + " </dev/null";
-    int status = std::system(command.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readFile(capture / "out");
-    r.err = readFile(capture / "err");
-    return r;
-}
+using Result = BrumeResult;
 
 std::string data(const std::string& name) { return quote(std::string(BRUME_TEST_DATA) + "/" + name); }
 

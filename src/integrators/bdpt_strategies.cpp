@@ -121,6 +121,17 @@ bool variantWanted(const StrategyContext& c, int variant, bool on) {
     return on && (c.options.onlyVariant < 0 || c.options.onlyVariant == variant);
 }
 
+// The equi-angular variant of path[i] (a camera or light subpath): the vertex placed on the
+// ray its walk traced from path[i − 1], towards `aim`, with the number u, swapped in for as
+// long as `swap` lives. False if no vertex can be placed.
+bool swapInEquiAngular(const StrategyContext& c, PathVertex* path, int i, const EquiAngularAim& aim, float u,
+                       VertexSwap& swap) {
+    PathVertex v;
+    if (!equiAngularVertex(c.scene, path[i], path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &v)) return false;
+    swap.set(&path[i], v);
+    return true;
+}
+
 // A nonzero weighted estimate of a strategy, counted for the pass statistics.
 Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, Spectrum value) {
     if (!isBlack(value)) ++c.stats.counters[strategyCounter(kind, equiAngular)];
@@ -165,14 +176,9 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
-        if (ea) {
-            PathVertex v;
-            EquiAngularAim aim{true, anchor, &l, false};
-            if (!equiAngularVertex(scene, c.camera[t - 1], zPrev, towardsPrevious(c.camera, t - 2), aim, c.mis,
-                                   c.sampler.get1D(dims + dim::kEquiAngular), &v))
-                continue;
-            swap.set(&c.camera[t - 1], v);
-        }
+        if (ea && !swapInEquiAngular(c, c.camera, t - 1, EquiAngularAim{true, anchor, &l, false},
+                                     c.sampler.get1D(dims + dim::kEquiAngular), swap))
+            continue;
         const PathVertex& z = c.camera[t - 1];
         LightSample ls;
         if (!sampleLight(scene, l, z.p, uLight, &ls) || isBlack(ls.Le)) continue;
@@ -223,13 +229,9 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
         // point light), within the view frustum.
         VertexSwap swap;
-        if (ea) {
-            PathVertex v;
-            if (!equiAngularVertex(scene, edge, *yPrev, towardsPrevious(c.light, s - 2), equiAngularAim(scene, c.camera[0], false),
-                                   c.mis, c.sampler.get1D(dim::connection(s, 1) + dim::kEquiAngular), &v))
-                continue;
-            swap.set(&c.light[s - 1], v);
-        }
+        if (ea && !swapInEquiAngular(c, c.light, s - 1, equiAngularAim(scene, c.camera[0], false),
+                                     c.sampler.get1D(dim::connection(s, 1) + dim::kEquiAngular), swap))
+            continue;
         const PathVertex& y = c.light[s - 1];
         CameraConnection cc;
         if (!connectToCamera(cam, y.p, c.width, c.height, &cc)) continue;
@@ -265,13 +267,9 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
         // The equi-angular variant: z(t−1) on its ray, towards y(s−1).
         VertexSwap swap;
-        if (ea) {
-            PathVertex v;
-            if (!equiAngularVertex(scene, c.camera[t - 1], zPrev, towardsPrevious(c.camera, t - 2), equiAngularAim(scene, y, false),
-                                   c.mis, c.sampler.get1D(dim::connection(s, t) + dim::kEquiAngular), &v))
-                continue;
-            swap.set(&c.camera[t - 1], v);
-        }
+        if (ea && !swapInEquiAngular(c, c.camera, t - 1, equiAngularAim(scene, y, false),
+                                     c.sampler.get1D(dim::connection(s, t) + dim::kEquiAngular), swap))
+            continue;
         const PathVertex& z = c.camera[t - 1];
         Vec3 d = y.p - z.p;
         const float dist = length(d);

@@ -2,6 +2,7 @@
 
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/integrators/bdpt_subpaths.h"
+#include "brume/integrators/light_numbers.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/visibility.h"
 #include "brume/sampling/hg.h"
@@ -161,10 +162,10 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     const Scene& scene = c.scene;
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     const uint32_t dims = dim::connection(1, t);
-    const Sample2 uLight = c.sampler.get2D(dims + dim::kLightPoint);
     float pick;
-    const int li = scene.lightDistribution().sample(c.sampler.get1D(dims + dim::kPick), &pick);
+    const int li = pickLight(scene, c.sampler, dims, 0, &pick);
     const Light& l = scene.lights()[li];
+    const Sample2 uLight = lightPointNumbers(l, c.sampler, dims + dim::kLightPoint, 0);
     const PathVertex& zPrev = c.camera[t - 2];
     Vec3 anchor;
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.camera[t - 1].edgeMedium && !zPrev.delta &&

@@ -1,5 +1,6 @@
 #include "brume/integrators/bdpt_subpaths.h"
 
+#include "brume/integrators/light_numbers.h"
 #include "brume/integrators/random_walk.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/scene/camera_importance.h"
@@ -70,7 +71,7 @@ int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int he
 int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler, PathVertex* path, PathStats& stats) {
     if (scene.lightDistribution().empty()) return 0;
     float pick;
-    int li = scene.lightDistribution().sample(sampler.get1D(dim::kLightStart + dim::kPick), &pick);
+    int li = pickLight(scene, sampler, dim::kLightStart, 0, &pick);
     const Light& light = scene.lights()[li];
     const bool directional = light.kind == LightKind::Directional;
     if (directional) {

@@ -12,9 +12,10 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
         if (piece.index == 0) f.firstEnd = piece.t1;
         if (piece.medium) {
             const uint32_t repeat = uint32_t(piece.index);
-            MediumSample ms = piece.medium->sampleDistance(ray, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
-                                                           sampler.get1D(dims + dim::kChannel, repeat),
-                                                           startIsPoint && piece.index == 0);
+            const Medium& m = *piece.medium;
+            const float uChannel = m.grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
+            MediumSample ms = m.sampleDistance(ray, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
+                                               uChannel, startIsPoint && piece.index == 0);
             f.weight *= ms.weight;
             f.fwd *= ms.fwd;
             f.rev *= ms.rev;

@@ -2,6 +2,7 @@
 
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
+#include "brume/integrators/light_numbers.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/visibility.h"
@@ -68,15 +69,13 @@ bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::D
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
                       const Sampler& sampler, uint32_t dims, PathStats& stats) {
-    float uPick = sampler.get1D(dims + dim::kPick);
-    Sample2 uLight = sampler.get2D(dims + dim::kLightPoint);
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
-    int li = scene.lightDistribution().sample(uPick, &pick);
+    int li = pickLight(scene, sampler, dims, 0, &pick);
     const Light& light = scene.lights()[li];
     if (v.origin && !usesDensity(mode, light)) return Spectrum(0.0f);  // C's job in this mode
     LightSample ls;
-    if (!sampleLight(scene, light, v.p, uLight, &ls) || isBlack(ls.Le)) return Spectrum(0.0f);
+    if (!sampleLight(scene, light, v.p, lightPointNumbers(light, sampler, dims + dim::kLightPoint, 0), &ls) || isBlack(ls.Le)) return Spectrum(0.0f);
     float scatterPdf;
     Spectrum f = v.eval(ls.wi, &scatterPdf);
     if (isBlack(f)) return Spectrum(0.0f);
@@ -100,15 +99,15 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
 // connection. Returns the estimate to be multiplied by the throughput at the segment start.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, const Sampler& sampler, uint32_t dims, uint32_t repeat, PathStats& stats) {
-    float uPick = sampler.get1D(dims + dim::kPick, repeat);
-    Sample2 uAnchor = sampler.get2D(dims + dim::kAnchor, repeat);
-    float uT = sampler.get1D(dims + dim::kEquiAngular, repeat);
-    Sample2 uLight = sampler.get2D(dims + dim::kLightPoint, repeat);
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
-    int li = scene.lightDistribution().sample(uPick, &pick);
+    int li = pickLight(scene, sampler, dims, repeat, &pick);
     const Light& light = scene.lights()[li];
     if (!usesEquiAngular(mode, light)) return Spectrum(0.0f);
+    // Numbers only for what this light needs: a triangle's anchor (also its light point), a
+    // sphere's light point.
+    const Sample2 uAnchor = light.kind == LightKind::Triangle ? sampler.get2D(dims + dim::kAnchor, repeat) : Sample2{0, 0};
+    const float uT = sampler.get1D(dims + dim::kEquiAngular, repeat);
     Vec3 anchor;
     EquiAngular ea;
     if (!equiAngularAnchor(scene, light, uAnchor, &anchor) || !equiAngularTowards(scene, light, anchor, seg, &ea))
@@ -119,7 +118,8 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     Vec3 x = seg.o + seg.d * origin.t;
     // A triangle's light sample from the same numbers lands exactly on the anchor.
     LightSample ls;
-    if (!sampleLight(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : uLight, &ls) || isBlack(ls.Le))
+    if (!sampleLight(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : lightPointNumbers(light, sampler, dims + dim::kLightPoint, repeat),
+                     &ls) || isBlack(ls.Le))
         return Spectrum(0.0f);
     const Medium& m = *seg.medium;
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
@@ -176,8 +176,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
 
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, both averaged
             // over the colour channels (free_flight.h).
-            MediumSample ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
-                                                sampler.get1D(dims + dim::kChannel, repeat), false);
+            const float uChannel = m->grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
+            MediumSample ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1,
+                                                sampler.get1D(dims + dim::kDistance, repeat), uChannel, false);
             beta *= ms.weight;
             if (ms.scattered) {
                 scattered = true;

@@ -34,7 +34,8 @@ float sphereConeOneMinusCos(float r, float dc) {
 
 }  // namespace
 
-bool sampleLight(const Scene& scene, const Light& light, Vec3 ref, Sample2 u, LightSample* out) {
+bool sampleLight(const Scene& scene, const Light& light, const Vec3& refIn, Sample2 u, LightSample* out) {
+    const Vec3 ref = loadVec3(refIn);  // just written by the caller, float by float
     *out = LightSample{};
     switch (light.kind) {
     case LightKind::Point:

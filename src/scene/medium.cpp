@@ -10,7 +10,7 @@ namespace brume {
 // and the weights are σs/σt (a collision) and 1 (a pass).
 namespace {
 
-bool grey(Spectrum s) { return s.x == s.y && s.y == s.z; }
+bool isGrey(Spectrum s) { return s.x == s.y && s.y == s.z; }
 
 }  // namespace
 
@@ -31,7 +31,7 @@ MediumSample Medium::sampleDistance(const Ray& ray, float t0, float t1, float uD
         }
     }
     ms.t = t0 + t;
-    if (grey(st)) {
+    if (isGrey(st)) {
         const double e = std::exp(-double(st.x) * t), p = double(st.x) * e;
         if (ms.scattered) {
             ms.weight = sigmaS / st.x;
@@ -62,7 +62,7 @@ MediumTransit Medium::transit(const Ray& ray, float t0, float t1, bool startIsPo
     const float len = t1 - t0;
     MediumTransit tr;
     double pass, scatter;
-    if (grey(st)) {
+    if (isGrey(st)) {
         pass = st.x > 0 ? std::exp(-double(st.x) * len) : 1.0;
         scatter = double(st.x) * pass;
         tr.T = Spectrum(float(pass));

@@ -125,16 +125,17 @@ Scene::~Scene() {
     if (device_) rtcReleaseDevice(device_);
 }
 
+// Field by field (loadFloat, math/vec3.h): callers have just written the ray float by float.
 static RTCRayHit toEmbree(const Ray& ray) {
     RTCRayHit rh;
-    rh.ray.org_x = ray.o.x;
-    rh.ray.org_y = ray.o.y;
-    rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x;
-    rh.ray.dir_y = ray.d.y;
-    rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tmin;
-    rh.ray.tfar = ray.tmax;
+    rh.ray.org_x = loadFloat(ray.o.x);
+    rh.ray.org_y = loadFloat(ray.o.y);
+    rh.ray.org_z = loadFloat(ray.o.z);
+    rh.ray.dir_x = loadFloat(ray.d.x);
+    rh.ray.dir_y = loadFloat(ray.d.y);
+    rh.ray.dir_z = loadFloat(ray.d.z);
+    rh.ray.tnear = loadFloat(ray.tmin);
+    rh.ray.tfar = loadFloat(ray.tmax);
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.time = 0.0f;
     rh.ray.flags = 0;

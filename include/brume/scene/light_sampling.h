@@ -21,7 +21,7 @@ struct LightSample {
 };
 
 // Returns false (and leaves pdf = 0) when the light cannot reach `ref` or the sample failed.
-bool sampleLight(const Scene& scene, const Light& light, Vec3 ref, Sample2 u, LightSample* out);
+bool sampleLight(const Scene& scene, const Light& light, const Vec3& ref, Sample2 u, LightSample* out);
 
 // Solid-angle density with which sampleLight would pick the light point `p` (with unit
 // geometric normal `n`, front side for triangles; ignored for spheres) from `ref`.

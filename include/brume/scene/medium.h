@@ -43,10 +43,15 @@ struct Medium {
     Spectrum sigmaA;  // absorption
     float g = 0;      // HG anisotropy, (−1, 1)
     Spectrum sigmaT() const { return sigmaS + sigmaA; }
+    // One extinction for all channels: distance sampling needs no channel choice.
+    bool grey() const {
+        Spectrum st = sigmaT();
+        return st.x == st.y && st.y == st.z;
+    }
 
     // Free flight from t0 along the ray, stopping at a collision before t1 or passing t1
     // (t1 = +∞ allowed). uDistance picks the distance, uChannel the colour channel whose
-    // extinction drives it (ignored in grey media). startIsPoint: t0 is a medium vertex.
+    // extinction drives it (ignored in grey media: callers need not draw it). startIsPoint: t0 is a medium vertex.
     MediumSample sampleDistance(const Ray& ray, float t0, float t1, float uDistance, float uChannel,
                                 bool startIsPoint) const;
     MediumTransit transit(const Ray& ray, float t0, float t1, bool startIsPoint, bool endIsPoint) const;

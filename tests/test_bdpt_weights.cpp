@@ -2,6 +2,9 @@
 // it weighs: every strategy's path density as a product of one-step densities (direction
 // density × geometry × free-flight density), the power heuristic over the strategies that can
 // make the path. Equal weights for every strategy imply that the weights of a path sum to one.
+// In a coloured medium every strategy has a density per colour channel (the channel driving
+// free flight), and the heuristic runs over strategies × channels; the tracer's weight is
+// that of its hero channel times the channel count.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -63,7 +66,7 @@ struct Checker : BdptObserver {
     }
 
     // Geometry × free flight for a walk from x[j] stopping at x[i].
-    double stepFactor(const std::vector<PathVertex>& x, int j, int i) const {
+    Channels stepFactor(const std::vector<PathVertex>& x, int j, int i) const {
         const PathVertex& a = x[j];
         const PathVertex& b = x[i];
         Vec3 d = b.p - a.p;
@@ -129,11 +132,11 @@ struct Checker : BdptObserver {
 
     // ρ = p_ea / p_ff for x[m] reached from x[m−1] and aimed at x[m+1] (0 if no such variant):
     // the light's anchor for a light vertex.
-    double equiAngularRatio(const std::vector<PathVertex>& x, int m, bool lastIsLight) const {
+    WideChannels equiAngularRatio(const std::vector<PathVertex>& x, int m, bool lastIsLight) const {
         const PathVertex& v = x[m];
         const PathVertex& p = x[m - 1];
         const PathVertex& a = x[m + 1];
-        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return 0;
+        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return WideChannels(0.0L);
         Vec3 e = v.p - p.p;
         float dist = length(e);
         Vec3 w = e / dist;
@@ -141,30 +144,36 @@ struct Checker : BdptObserver {
         const Light* clip = nullptr;
         if (lastIsLight && m + 1 == int(x.size()) - 1) {
             const Light& l = scene->lights()[a.light];
-            if (l.kind == LightKind::Directional) return 0;
+            if (l.kind == LightKind::Directional) return WideChannels(0.0L);
             if (l.kind != LightKind::Triangle) anchor = l.position;
             clip = &l;
         }
         (void)w;
-        double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
-        return pff > 0 ? eaPdf(p, v, anchor, clip, false) / pff : 0;
+        return ratios(eaPdf(p, v, anchor, clip, false), v.medium->sigmaT(), dist);
+    }
+
+    // ρ_c = p_ea / p_ff,c, p_ff,c = σt_c·exp(−σt_c·d) (0 where p_ff,c is). In long double,
+    // as the products below: a dense channel's densities leave double's range.
+    static WideChannels ratios(double pea, Spectrum sigmaT, float dist) {
+        WideChannels rho(0.0L);
+        for (int c = 0; c < 3; ++c) {
+            double pff = freeFlightPdfScatter(sigmaT[c], dist);
+            rho[c] = pff > 0 ? pea / (long double)pff : 0;
+        }
+        return rho;
     }
 
     // The same for the camera as a point light: x[1] reached from x[2], aimed at the pinhole x[0].
-    double cameraEquiAngularRatio(const std::vector<PathVertex>& x) const {
+    WideChannels cameraEquiAngularRatio(const std::vector<PathVertex>& x) const {
         const PathVertex& v = x[1];
         const PathVertex& p = x[2];
-        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return 0;
-        Vec3 e = v.p - p.p;
-        float dist = length(e);
-        Vec3 w = e / dist;
-        (void)w;
-        double pff = freeFlightPdfScatter(v.medium->sigmaT(), dist);
-        return pff > 0 ? eaPdf(p, v, x[0].p, nullptr, true) / pff : 0;
+        if (!v.isMedium() || p.delta || crossesBoundary(p, v)) return WideChannels(0.0L);
+        float dist = length(v.p - p.p);
+        return ratios(eaPdf(p, v, x[0].p, nullptr, true), v.medium->sigmaT(), dist);
     }
 
     void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight,
-                  bool equiAngular) const override {
+                  bool equiAngular, int hero) const override {
         std::vector<PathVertex> x;
         for (int i = 0; i < t; ++i) x.push_back(camera[i]);
         for (int i = s - 1; i >= 0; --i) x.push_back(light[i]);
@@ -177,7 +186,7 @@ struct Checker : BdptObserver {
         // A directional light's vertex has no position: put it far up the beam, so that
         // directions towards it are right.
         if (directional) x[k].p = x[k - 1].p - L.direction * 1000.0f;
-        std::vector<double> fwd(k + 1, 1.0), rev(k + 1, 1.0);
+        std::vector<Channels> fwd(k + 1, Channels(1.0)), rev(k + 1, Channels(1.0));
         for (int i = 1; i <= k; ++i) fwd[i] = dirPdf(x, i - 1, i - 2, i) * stepFactor(x, i - 1, i);
         float pos, dir;
         {
@@ -186,7 +195,7 @@ struct Checker : BdptObserver {
             std::vector<PathVertex> y = x;
             y[k] = end;
             emissionPdf(*scene, L, end.p, end.ng, normalize(x[k - 1].p - end.p), &pos, &dir);
-            rev[k] = scene->lightDistribution().pmf(li) * (directional ? 1.0f : pos);
+            rev[k] = Channels(scene->lightDistribution().pmf(li) * (directional ? 1.0f : pos));
             for (int i = k - 1; i >= 1; --i) {
                 if (i == k - 1 && directional) {
                     // Parallel light: the disk's area density projected onto x(k−1), |cos| and no
@@ -204,42 +213,35 @@ struct Checker : BdptObserver {
         auto remap = [](double p) { return p != 0 ? p : 1.0; };
         auto connectible = [&](int i) { return !(x[i].isSurface() && x[i].delta); };
         std::vector<double> p(k + 2, 0.0);  // by t' = 1 … k + 1
-        double sum = 0, self = 0;
-        auto pw = [&](double r) { return heuristic == MisHeuristic::Power ? r * r : r; };
+        long double sum = 0, self = 0;
+        auto pw = [&](long double r) { return heuristic == MisHeuristic::Power ? r * r : r; };
+        const int channels = scene->mediumChannels();
         for (int tt = 1; tt <= k + 1; ++tt) {
             int ss = k + 1 - tt;
             bool valid = ss == 0 ? hittable : (connectible(tt - 1) && connectible(tt));
             if (!valid) continue;
-            double prod = 1;
-            for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i]);
-            for (int i = tt; i <= k; ++i) prod *= remap(rev[i]);
             // Free-flight and equi-angular variants of the strategy.
-            double rho = connect != ConnectMode::Density && tt >= 2 && ss >= 1 ? equiAngularRatio(x, tt - 1, true) : 0;
+            WideChannels rho(0.0L);
+            if (connect != ConnectMode::Density && tt >= 2 && ss >= 1) rho = equiAngularRatio(x, tt - 1, true);
             if (connect != ConnectMode::Density && tt == 1 && k >= 2) rho = cameraEquiAngularRatio(x);
-            bool eaOn = rho > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
-            double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho) : 0;
-            if (std::getenv("BRUME_DEBUG_TERMS")) std::printf("   tt=%d prod %g rho %g ffOn %d\n", tt, prod, rho, int(ffOn));
-            sum += termFf + termEa;
-            if (tt == t) self = equiAngular ? termEa : termFf;
-        }
-        double expected = sum > 0 ? self / sum : 0;
-        if (std::getenv("BRUME_DEBUG_EA") && std::abs(expected - weight) > 0.5)
-            std::printf("s=%d t=%d ea=%d weight %.6f expected %.6f sum %g self %g rho_own %g dist %g kind %d pdfFwd %g fwd %g\n", s, t, int(equiAngular), weight, expected, sum, self,
-                        equiAngularRatio(x, t - 1, true), length(x[t - 1].p - x[t - 2].p), int(x[t - 1].kind), x[t - 1].pdfFwd, fwd[t - 1]);
-        if (std::getenv("BRUME_DEBUG_EA") && std::abs(expected - weight) > 0.5)
-            for (int i = 0; i <= k; ++i) std::printf("    x%d fwd %g rev %g | field pdfFwd %g pdfRev %g\n", i, fwd[i], rev[i], x[i].pdfFwd, x[i].pdfRev);
-        if (std::getenv("BRUME_DEBUG_WEIGHTS") && std::abs(expected - weight) > 1e-4) {
-            std::printf("s=%d t=%d weight %g expected %g\n", s, t, weight, expected);
-            for (int i = 0; i <= k; ++i)
-                std::printf("  x%d kind %d fwd %g (vertex %g) rev %g (vertex %g) edgeDist %g edgeFF %g/%g\n", i, int(x[i].kind), fwd[i],
-                            x[i].pdfFwd, rev[i], x[i].pdfRev, x[i].edgeDist, x[i].edgeFwdFreeFlight, x[i].edgeRevFreeFlight);
-            if (s >= 2) {
-                const PathVertex& y0 = light[0];
-                const PathVertex& y1 = light[1];
-                float pos, dir;
-                emissionPdf(*scene, scene->lights()[y0.light], y0.p, y0.ng, normalize(y1.p - y0.p), &pos, &dir);
-                std::printf("  y0->y1: dir %g dist %g step %g  y1.wo·d %g\n", dir, length(y1.p - y0.p), stepFactor(std::vector<PathVertex>{y0, y1}, 0, 1), dot(-y1.wo, normalize(y1.p - y0.p)));
+            for (int c = 0; c < channels; ++c) {
+                long double prod = 1;
+                for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i][c]);
+                for (int i = tt; i <= k; ++i) prod *= remap(rev[i][c]);
+                bool eaOn = rho[c] > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
+                long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
+                sum += termFf + termEa;
+                if (tt == t && c == hero) self = equiAngular ? termEa : termFf;
             }
+        }
+        double expected = sum > 0 ? double(channels * self / sum) : 0;
+        if (std::getenv("BRUME_DEBUG_WEIGHTS") && std::abs(expected - weight) > 1e-3) {
+            std::printf("s=%d t=%d hero %d weight %g expected %g\n", s, t, hero, weight, expected);
+            for (int i = 0; i <= k; ++i)
+                std::printf("  x%d kind %d fwd %g %g %g rev %g %g %g | vtx fwd %g %g %g rev %g %g %g ratio %g %g %g\n", i, int(x[i].kind),
+                            fwd[i][0], fwd[i][1], fwd[i][2], rev[i][0], rev[i][1], rev[i][2], x[i].pdfFwd[0], x[i].pdfFwd[1],
+                            x[i].pdfFwd[2], x[i].pdfRev[0], x[i].pdfRev[1], x[i].pdfRev[2], x[i].channelRatio[0],
+                            x[i].channelRatio[1], x[i].channelRatio[2]);
         }
         // Positions are floats: an edge of length ℓ between points of size |p| has its length
         // and direction known to ~2^-23·|p|/ℓ only, and so do the densities the weights are
@@ -311,6 +313,15 @@ TEST_CASE("bdpt MIS weights with equi-angular light connections (mis and equiang
         checkWeights("bdpt_window_fog.gltf", 16, m);
         checkWeights("bdpt_glass_sphere.gltf", 4, m);
     }
+}
+
+// Coloured fog (extinction ratio 11 between channels): the weights run over strategies ×
+// channels, each channel's densities its own.
+TEST_CASE("bdpt MIS weights in a coloured medium", "[bdpt][mis][chromatic]") {
+    checkWeights("quad_light_fog_chromatic.gltf", 4);
+    checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::Mis);
+    checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::EquiAngular);
+    checkWeights("furnace_chromatic.gltf", 1);
 }
 
 TEST_CASE("bdpt MIS weights with exact (bounded, clipped) equi-angular densities", "[bdpt][mis]") {

@@ -53,8 +53,10 @@ TEST_CASE("boundary walk: an edge through a fog box has the same densities from 
         CHECK(ab.crossed == ba.crossed);
         CHECK(relDiff(ab.T.x, ba.T.x) < 1e-5);
         // The walk a → b stops at b exactly as the walk b → a passes it, and back.
-        CHECK(relDiff(ab.freeFlightToB, ba.freeFlightToA) < 1e-5);
-        CHECK(relDiff(ab.freeFlightToA, ba.freeFlightToB) < 1e-5);
+        for (int c = 0; c < 3; ++c) {
+            CHECK(relDiff(ab.freeFlightToB[c], ba.freeFlightToA[c]) < 1e-5);
+            CHECK(relDiff(ab.freeFlightToA[c], ba.freeFlightToB[c]) < 1e-5);
+        }
     }
     CHECK(checked > 100);
     CHECK(crossed > 100);
@@ -86,56 +88,75 @@ TEST_CASE("medium: a homogeneous medium answers with its closed forms", "[medium
     Medium m;
     m.sigmaS = Spectrum(0.4f, 0.8f, 1.2f);
     m.sigmaA = Spectrum(0.1f);
-    const Spectrum st = m.sigmaT();
+    const Spectrum st = m.sigmaT();  // 0.5, 0.9, 1.3
     const Ray ray{Vec3(1, 2, 3), Vec3(0, 0, 1)};
-    // Only the piece's length counts: [2, 2.75] as [0, 0.75].
+    // Only the piece's length counts: [2, 2.75] as [0, 0.75]; densities per channel.
     MediumTransit tr = m.transit(ray, 2.0f, 2.75f, true, false);
     CHECK(tr.T.y == Approx(std::exp(-0.9 * 0.75)));
-    CHECK(tr.fwd == Approx(freeFlightPdfPass(st, 0.75f)));     // passes the end
-    CHECK(tr.rev == Approx(freeFlightPdfScatter(st, 0.75f)));  // the reverse walk stops at the start
+    for (int c = 0; c < 3; ++c) {
+        CHECK(tr.fwd[c] == Approx(freeFlightPdfPass(st[c], 0.75f)));     // passes the end
+        CHECK(tr.rev[c] == Approx(freeFlightPdfScatter(st[c], 0.75f)));  // the reverse walk stops at the start
+    }
     CHECK(m.transmittance(ray, 2.0f, 2.75f).z == Approx(std::exp(-1.3 * 0.75)));
+    // Channel weights w: the density is the mixture Σ w_c p_c, the weight f_c / mixture.
+    const Spectrum w(0.2f, 0.3f, 0.5f);
     Rng rng(3, 4);
-    int scattered = 0;
+    int scattered = 0, picked[3] = {0, 0, 0};
     for (int i = 0; i < 2000; ++i) {
-        MediumSample ms = m.sampleDistance(ray, 1.0f, 3.0f, rng.next1D(), rng.next1D(), false);
+        const float uChannel = rng.next1D();
+        MediumSample ms = m.sampleDistance(ray, 1.0f, 3.0f, rng.next1D(), uChannel, w, false);
+        ++picked[pickChannel(w, uChannel)];
         const float len = ms.t - 1.0f;
         REQUIRE(ms.t >= 1.0f);
         REQUIRE(ms.t <= 3.0f);
+        double mix = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double p = ms.scattered ? freeFlightPdfScatter(st[c], len) : freeFlightPdfPass(st[c], len);
+            REQUIRE(ms.fwd[c] == Approx(p));
+            REQUIRE(ms.rev[c] == Approx(freeFlightPdfPass(st[c], len)));
+            mix += w[c] * p;
+        }
+        REQUIRE(ms.pdf == Approx(mix));
         if (ms.scattered) {
             ++scattered;
-            double p = freeFlightPdfScatter(st, len);
-            REQUIRE(ms.fwd == Approx(p));
-            REQUIRE(ms.rev == Approx(freeFlightPdfPass(st, len)));
-            REQUIRE(ms.weight.x == Approx(std::exp(-0.5 * len) * 0.4 / p));
+            REQUIRE(ms.weight.x == Approx(std::exp(-0.5 * len) * 0.4 / mix));
+            REQUIRE(ms.weight.z == Approx(std::exp(-1.3 * len) * 1.2 / mix));
         } else {
             REQUIRE(ms.t == 3.0f);
-            REQUIRE(ms.fwd == Approx(freeFlightPdfPass(st, 2.0f)));
-            REQUIRE(ms.weight.z == Approx(std::exp(-1.3 * 2.0) / freeFlightPdfPass(st, 2.0f)));
+            REQUIRE(ms.weight.z == Approx(std::exp(-1.3 * 2.0) / mix));
         }
     }
     CHECK(scattered > 1000);
+    CHECK(picked[0] > 300);  // 400 expected
+    CHECK(picked[2] > 900);  // 1000 expected
+    // A hero channel (one-hot weights): its own density, the others' ratios in the weight.
+    for (int i = 0; i < 200; ++i) {
+        MediumSample ms = m.sampleDistance(ray, 0.0f, 2.0f, rng.next1D(), rng.next1D(), heroChannel(2), false);
+        REQUIRE(ms.pdf == Approx(ms.fwd[2]));
+    }
     // A grey medium takes its own path (one exponential): the same closed forms.
     Medium grey;
     grey.sigmaS = Spectrum(0.6f);
     grey.sigmaA = Spectrum(0.2f);
     for (int i = 0; i < 200; ++i) {
-        MediumSample ms = grey.sampleDistance(ray, 0.0f, 2.0f, rng.next1D(), rng.next1D(), true);
+        MediumSample ms = grey.sampleDistance(ray, 0.0f, 2.0f, rng.next1D(), rng.next1D(), w, true);
         const double len = ms.t;
         if (ms.scattered) {
-            REQUIRE(ms.fwd == Approx(0.8 * std::exp(-0.8 * len)));
-            REQUIRE(ms.rev == Approx(ms.fwd));  // the reverse walk scatters at the start point
-            REQUIRE(ms.weight.y == Approx(std::exp(-0.8 * len) * 0.6 / ms.fwd));
+            REQUIRE(ms.pdf == Approx(0.8 * std::exp(-0.8 * len)));
+            REQUIRE(ms.rev[1] == Approx(ms.pdf));  // the reverse walk scatters at the start point
+            REQUIRE(ms.weight.y == Approx(std::exp(-0.8 * len) * 0.6 / ms.pdf));
         } else {
-            REQUIRE(ms.fwd == Approx(std::exp(-1.6)));
-            REQUIRE(ms.rev == Approx(0.8 * std::exp(-1.6)));
+            REQUIRE(ms.pdf == Approx(std::exp(-1.6)));
+            REQUIRE(ms.rev[0] == Approx(0.8 * std::exp(-1.6)));
             REQUIRE(ms.weight.x == Approx(1.0));
         }
+        REQUIRE(ms.fwd[2] == Approx(ms.pdf));
     }
     MediumTransit gt = grey.transit(ray, 0.5f, 2.0f, false, true);
     CHECK(gt.T.x == Approx(std::exp(-0.8 * 1.5)));
-    CHECK(gt.fwd == Approx(0.8 * std::exp(-0.8 * 1.5)));
-    CHECK(gt.rev == Approx(std::exp(-0.8 * 1.5)));
+    CHECK(gt.fwd[1] == Approx(0.8 * std::exp(-0.8 * 1.5)));
+    CHECK(gt.rev[2] == Approx(std::exp(-0.8 * 1.5)));
     // Over an infinite piece nothing passes.
-    MediumSample out = m.sampleDistance(ray, 0.0f, kInfinity, 0.999999f, 0.1f, false);
+    MediumSample out = m.sampleDistance(ray, 0.0f, kInfinity, 0.999999f, 0.1f, w, false);
     CHECK((out.scattered || isBlack(out.weight)));
 }

@@ -15,6 +15,7 @@
 #include "brume/sampling/hg.h"
 #include "brume/sampling/sampler.h"
 #include "brume/sampling/warp.h"
+#include "brume/scene/medium.h"
 #include "support/test_support.h"
 
 using namespace brume;
@@ -119,7 +120,7 @@ TEST_CASE("the histogram tests have power against wrong densities", "[support]")
     HistogramOptions fo;
     fo.outsideProbability = std::exp(-1.02 * 3.0);
     HistogramResult ff = intervalHistogramTest(
-        [](Sample2 u) -> std::optional<double> { return sampleFreeFlight(Spectrum(1.0f), u.u, u.v); },
+        [](Sample2 u) -> std::optional<double> { return sampleFreeFlight(1.0f, u.u); },
         [](double t) { return 1.02 * std::exp(-1.02 * t); }, 0.0, 3.0, 40, kSamples, fo);
     report("power: free flight 1 vs pdf 1.02", ff);
     CHECK(ff.chi2.pValue < 1e-6);
@@ -293,63 +294,89 @@ TEST_CASE("HG sampling matches hgPhase", "[chi2][hg]") {
 // ---------------------------------------------------------------------------------------
 // Free-flight sampling
 
+// Through Medium::sampleDistance, as the integrators sample: the channel driving the
+// distance drawn with probabilities w (uniform, skewed, one-hot as a hero channel), the
+// density the mixture Σ_c w_c·σt_c·exp(−σt_c·t), and passing the piece's end the rest.
+namespace {
+
+struct FreeFlightCase {
+    Spectrum sigmaT;
+    Spectrum w;
+    float tmax;
+    const char* name;
+};
+
+void checkFreeFlight(const FreeFlightCase& c, const std::vector<double>& edges, uint64_t seed, double alpha) {
+    Medium m;
+    m.sigmaS = c.sigmaT;
+    m.sigmaA = Spectrum(0.0f);
+    const Ray ray{Vec3(0.0f), Vec3(0, 0, 1)};
+    auto mix = [&](double t, bool pass) {
+        double p = 0;
+        for (int k = 0; k < 3; ++k)
+            p += c.w[k] * (pass ? freeFlightPdfPass(c.sigmaT[k], float(t)) : freeFlightPdfScatter(c.sigmaT[k], float(t)));
+        return p;
+    };
+    HistogramOptions opt;
+    opt.seed = seed;
+    // Flights past tmax (including t = +∞ from a channel with σt = 0) form one extra bin
+    // whose probability is the pass probability.
+    opt.outsideProbability = mix(c.tmax, true);
+    long negative = 0, badPdf = 0;
+    HistogramResult r = intervalHistogramTest(
+        [&](Sample2 u) -> std::optional<double> {
+            MediumSample ms = m.sampleDistance(ray, 0.0f, c.tmax, u.u, u.v, c.w, false);
+            if (ms.t < 0) ++negative;
+            if (std::abs(ms.pdf - mix(ms.t, !ms.scattered)) > 1e-6 * ms.pdf) ++badPdf;  // (float weights)
+            return ms.scattered ? double(ms.t) : std::numeric_limits<double>::infinity();
+        },
+        [&](double t) { return mix(t, false); }, edges, kSamples, opt);
+    checkHistogram(std::string("free flight, ") + c.name, r, alpha);
+    CHECK(negative == 0);
+    CHECK(badPdf == 0);  // the density it reports is the one it samples
+    INFO("scatter integral " << r.pdfIntegral << " + pass " << opt.outsideProbability);
+    CHECK(r.pdfIntegral + opt.outsideProbability == Approx(1.0).epsilon(kIntegralTol));
+}
+
+std::vector<double> uniformEdges(double tmax, int n) {
+    std::vector<double> e;
+    for (int i = 0; i <= n; ++i) e.push_back(tmax * i / n);
+    return e;
+}
+
+}  // namespace
+
 TEST_CASE("free-flight sampling matches its scatter density and pass probability", "[chi2][free_flight]") {
-    struct Case {
-        Spectrum sigmaT;
-        float tmax;
-        const char* name;
+    const Spectrum third(1.0f / 3.0f);
+    const FreeFlightCase cases[] = {
+        {Spectrum(1.0f), third, 3.0f, "grey 1"},
+        {Spectrum(0.5f, 2.0f, 8.0f), third, 4.0f, "chromatic (0.5, 2, 8), uniform channels"},
+        {Spectrum(0.5f, 2.0f, 8.0f), Spectrum(0.7f, 0.25f, 0.05f), 4.0f, "chromatic (0.5, 2, 8), weights (0.7, 0.25, 0.05)"},
+        {Spectrum(0.0f, 1.5f, 4.0f), third, 3.0f, "chromatic (0, 1.5, 4)"},
+        {Spectrum(0.5f, 2.0f, 8.0f), heroChannel(1), 3.0f, "chromatic (0.5, 2, 8), hero green"},
+        {Spectrum(0.02f, 0.02f, 0.02f), third, 10.0f, "grey 0.02 (mostly passes)"},
     };
-    const Case cases[] = {
-        {Spectrum(1.0f), 3.0f, "grey 1"},
-        {Spectrum(0.5f, 2.0f, 8.0f), 4.0f, "chromatic (0.5, 2, 8)"},
-        {Spectrum(0.0f, 1.5f, 4.0f), 3.0f, "chromatic (0, 1.5, 4)"},
-        {Spectrum(0.02f, 0.02f, 0.02f), 10.0f, "grey 0.02 (mostly passes)"},
-    };
-    const double alpha = kAlpha / 4;
     int k = 0;
-    for (const Case& c : cases) {
-        HistogramOptions opt;
-        opt.seed = 71 + k++;
-        // Samples beyond tmax (including t = +∞ from a channel with σt = 0) form one extra
-        // bin whose probability is the pass probability.
-        opt.outsideProbability = freeFlightPdfPass(c.sigmaT, c.tmax);
-        long negative = 0, infinite = 0;
-        HistogramResult r = intervalHistogramTest(
-            [&](Sample2 u) -> std::optional<double> {
-                float t = sampleFreeFlight(c.sigmaT, u.u, u.v);
-                if (t < 0) ++negative;
-                if (std::isinf(t)) ++infinite;
-                return double(t);
-            },
-            [&](double t) { return double(freeFlightPdfScatter(c.sigmaT, float(t))); }, 0.0, c.tmax, 40, kSamples, opt);
-        checkHistogram(std::string("free flight, ") + c.name, r, alpha);
-        CHECK(negative == 0);
-        INFO("scatter integral " << r.pdfIntegral << " + pass " << opt.outsideProbability);
-        CHECK(r.pdfIntegral + opt.outsideProbability == Approx(1.0).epsilon(kIntegralTol));
-        // A channel with σt = 0 is picked a third of the time and never scatters.
-        int zeroChannels = (c.sigmaT.x == 0) + (c.sigmaT.y == 0) + (c.sigmaT.z == 0);
-        if (zeroChannels == 0) CHECK(infinite == 0);
-        else CHECK(double(infinite) / kSamples == Approx(zeroChannels / 3.0).margin(5 * std::sqrt(2.0 / 9 / kSamples)));
-    }
-    // The pass probability over an infinite distance is the fraction of empty channels.
-    CHECK(freeFlightPdfPass(Spectrum(0.0f, 1.5f, 4.0f), std::numeric_limits<float>::infinity()) == Approx(1.0 / 3.0));
-    CHECK(freeFlightPdfPass(Spectrum(1.0f), 0.0f) == Approx(1.0));
+    for (const FreeFlightCase& c : cases) checkFreeFlight(c, uniformEdges(c.tmax, 40), 71 + k++, kAlpha / 6);
+    // Channel picks follow the weights, never a channel of weight 0.
+    const Spectrum w(0.2f, 0.0f, 0.8f);
+    int counts[3] = {0, 0, 0};
+    Rng rng(5, 6);
+    for (int i = 0; i < 100000; ++i) ++counts[pickChannel(w, rng.next1D())];
+    CHECK(counts[1] == 0);
+    CHECK(counts[0] / 1e5 == Approx(0.2).margin(5 * std::sqrt(0.16 / 1e5)));
+    CHECK(pickChannel(w, 0.99999994f) == 2);
+    CHECK(pickChannel(heroChannel(1), 0.0f) == 1);
+    CHECK(freeFlightPdfPass(0.0f, std::numeric_limits<float>::infinity()) == Approx(1.0));
+    CHECK(freeFlightPdfPass(1.0f, 0.0f) == Approx(1.0));
 }
 
 TEST_CASE("free-flight sampling in a dense medium, bins spaced geometrically", "[chi2][free_flight]") {
     // σt = 8: bins from 1e-3 growing geometrically to 3 (plus [0, 1e-3]) resolve both the
-    // start of the exponential and its tail; explicit edges exercise the other overload.
-    const Spectrum sigmaT(8.0f);
+    // start of the exponential and its tail.
     std::vector<double> edges = {0.0};
     for (int i = 0; i <= 30; ++i) edges.push_back(1e-3 * std::pow(3000.0, i / 30.0));
-    HistogramOptions opt;
-    opt.seed = 79;
-    opt.outsideProbability = freeFlightPdfPass(sigmaT, float(edges.back()));
-    HistogramResult r = intervalHistogramTest(
-        [&](Sample2 u) -> std::optional<double> { return double(sampleFreeFlight(sigmaT, u.u, u.v)); },
-        [&](double t) { return double(freeFlightPdfScatter(sigmaT, float(t))); }, edges, kSamples, opt);
-    checkHistogram("free flight, grey 8, geometric bins", r, kAlpha);
-    CHECK(r.pdfIntegral + opt.outsideProbability == Approx(1.0).epsilon(kIntegralTol));
+    checkFreeFlight({Spectrum(8.0f), Spectrum(1.0f / 3.0f), float(edges.back()), "grey 8, geometric bins"}, edges, 79, kAlpha);
 }
 
 // ---------------------------------------------------------------------------------------

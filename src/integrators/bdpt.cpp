@@ -1,9 +1,11 @@
 #include "brume/integrators/bdpt.h"
 
+#include <algorithm>
 #include <vector>
 
 #include "brume/integrators/bdpt_strategies.h"
 #include "brume/integrators/bdpt_subpaths.h"
+#include "brume/integrators/sample_dimensions.h"
 
 namespace brume {
 
@@ -32,11 +34,15 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     PathVertex* light = paths.light.data();
     // A camera subpath may end on an emitter one vertex past the last scattering event.
     const int maxScatter = options_.maxDepth < 0 ? kMaxSubpathVertices : options_.maxDepth;
-    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, maxScatter + 1, sampler, camera, stats);
-    const int nLight = traceLightSubpath(scene, maxScatter, sampler, light, stats);
+    // In coloured media both walks sample distances with one hero channel, drawn uniformly;
+    // the weights are taken over the channels as well as the strategies (bdpt_mis.h).
+    const int channels = scene.mediumChannels();
+    const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
+    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, maxScatter + 1, hero, sampler, camera, stats);
+    const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, width, height};
+    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, width, height, channels, hero};
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);

@@ -84,12 +84,14 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     MediumTransit tr = m.transit(Ray{prev.p, -v.wo, dist}, 0.0f, dist, prev.isMedium(), true);
     v.edgeFwdFreeFlight = tr.fwd;
     v.edgeRevFreeFlight = tr.rev;
+    // Its density is the same in every channel: the subpath's channel ratios are prev's.
+    v.channelRatio = prev.channelRatio;
     // pdfFwd: the equi-angular density of the point as the weights see it (the stand-in
     // unless exact): direction density × 1/d² × p_ea.
     v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height), dist) *
                equiAngularDensity(scene, prev, v, aim, mis);
     *out = v;
-    return v.pdfFwd > 0;
+    return v.pdfFwd[0] > 0;  // one density for every channel: the equi-angular one
 }
 
 }  // namespace brume

@@ -22,50 +22,69 @@ namespace {
 
 double remap0(double f) { return f != 0 ? f : 1.0; }
 
-// r^β at a vertex; zero densities (specular vertices) are mapped to 1 so that they cancel.
-double ratioPow(MisHeuristic h, const PathVertex& v) { return misPower(h, remap0(v.pdfRev) / remap0(v.pdfFwd)); }
+// r^β at a vertex in channel c; zero densities (specular vertices) are mapped to 1 so that
+// they cancel.
+long double ratioPow(MisHeuristic h, const PathVertex& v, int c) {
+    return misPower(h, (long double)remap0(v.pdfRev[c]) / remap0(v.pdfFwd[c]));
+}
 
-// ρ = p_ea / p_ff for a camera-side medium vertex v reached from p and joined to a.
-double equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a,
-                        bool aEndsPath, MisSettings st) {
-    if (!v.isMedium() || p.delta) return 0.0;
+// ρ_c = p_ea / p_ff,c for a camera-side medium vertex v reached from p and joined to a. In
+// long double, as all the sums below: far along a ray a dense channel's free-flight density
+// can be 1e-180 where the equi-angular one is 1e-10, and ρ² leaves double's range.
+WideChannels equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a,
+                              bool aEndsPath, MisSettings st) {
+    if (!v.isMedium() || p.delta) return WideChannels(0.0L);
     EquiAngularAim aim = equiAngularAim(scene, a, aEndsPath);
-    if (!aim.valid) return 0.0;
+    if (!aim.valid) return WideChannels(0.0L);
     float dist = length(v.p - p.p);
-    if (!(dist > 0)) return 0.0;
-    double pff = v.medium->transit(Ray{p.p, (v.p - p.p) / dist, dist}, 0.0f, dist, false, true).fwd;
-    if (!(pff > 0)) return 0.0;
-    return equiAngularDensity(scene, p, v, aim, st) / pff;
+    if (!(dist > 0)) return WideChannels(0.0L);
+    Channels pff = v.medium->transit(Ray{p.p, (v.p - p.p) / dist, dist}, 0.0f, dist, false, true).fwd;
+    WideChannels rho(0.0L);
+    long double pea = -1;
+    for (int c = 0; c < st.channels; ++c) {
+        if (!(pff[c] > 0)) continue;
+        if (pea < 0) pea = equiAngularDensity(scene, p, v, aim, st);
+        rho[c] = pea / pff[c];
+    }
+    return rho;
 }
 
 // V for the strategy whose connection vertex v (camera side, reached from prev over an edge
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
-// [free flight on] + [equi-angular on] · ρ^β. *rho receives ρ (0: no equi-angular variant).
-double variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                     bool anchorEndsPath, bool edgeCrossed, MisSettings st, double* rho) {
-    double r = 0.0;
+// [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
+// equi-angular variant).
+WideChannels variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
+                           bool anchorEndsPath, bool edgeCrossed, MisSettings st, WideChannels* rho) {
+    WideChannels r(0.0L);
     if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed)
         r = equiAngularRatio(scene, prev, v, anchor, anchorEndsPath, st);
     if (rho) *rho = r;
-    bool eaOn = r > 0;
-    bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
-    return (ffOn ? 1.0 : 0.0) + (eaOn ? misPower(st.heuristic, r) : 0.0);
+    WideChannels V(1.0L);
+    for (int c = 0; c < st.channels; ++c) {
+        bool eaOn = r[c] > 0;
+        bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
+        V[c] = (ffOn ? 1.0L : 0.0L) + (eaOn ? misPower(st.heuristic, r[c]) : 0.0L);
+    }
+    return V;
 }
 
 }  // namespace
 
 void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings st) {
+    const MisHeuristic h = st.heuristic;
     if (cameraSide) {
         // V_j (j camera vertices): z(j−1) reached from z(j−2), joined to z(j); for j = 1 the
         // camera connection: x1 reached from x2, joined to the pinhole.
-        if (n > 0) path[0].misPrefix = 0.0, path[0].misVariant = 1.0;
+        if (n > 0) path[0].misPrefix = WideChannels(0.0L), path[0].misVariant = WideChannels(1.0L);
         for (int j = 1; j < n; ++j) {
             if (j >= 2)
                 path[j].misVariant = variantFactor(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr);
             else
-                path[j].misVariant = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr) : 1.0;
-            double term = !path[j].delta && !path[j - 1].delta ? path[j].misVariant : 0.0;
-            path[j].misPrefix = ratioPow(st.heuristic, path[j]) * (term + path[j - 1].misPrefix);
+                path[j].misVariant = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr)
+                                            : WideChannels(1.0L);
+            const bool on = !path[j].delta && !path[j - 1].delta;
+            for (int c = 0; c < st.channels; ++c)
+                path[j].misPrefix[c] = ratioPow(h, path[j], c) * ((on ? path[j].misVariant[c] : 0.0L) + path[j - 1].misPrefix[c]);
         }
         return;
     }
@@ -74,10 +93,12 @@ void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, M
     for (int i = 0; i < n; ++i) {
         path[i].misVariant = i >= 1 && i + 1 < n
                          ? variantFactor(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
-                         : 1.0;
+                         : WideChannels(1.0L);
         bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
-        double term = !path[i].delta && !deltaBefore ? path[i].misVariant : 0.0;
-        path[i].misPrefix = ratioPow(st.heuristic, path[i]) * (term + (i > 0 ? path[i - 1].misPrefix : 0.0));
+        const bool on = !path[i].delta && !deltaBefore;
+        for (int c = 0; c < st.channels; ++c)
+            path[i].misPrefix[c] = ratioPow(h, path[i], c) *
+                                   ((on ? path[i].misVariant[c] : 0.0L) + (i > 0 ? path[i - 1].misPrefix[c] : 0.0L));
     }
 }
 
@@ -92,48 +113,74 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
         return connectionCrossed;
     };
     // V_tt on the joined path (tt camera vertices).
-    auto variants = [&](int tt, double* rho) {
+    auto variants = [&](int tt, WideChannels* rho) {
         if (tt >= 2 && k + 1 - tt >= 1)
             return variantFactor(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, crossed(tt - 1), st, rho);
         if (tt == 1 && k >= 2) return variantFactor(scene, at(2), at(1), at(0), false, crossed(2), st, rho);
-        if (rho) *rho = 0.0;
-        return 1.0;
+        if (rho) *rho = WideChannels(0.0L);
+        return WideChannels(1.0L);
     };
-    // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
-    // free-flight one may underflow far from where free flight goes), so all ratios are then
-    // relative to the equi-angular variant: its own term is 1 and the free-flight one 1/ρ.
-    double rhoOwn;
-    double sum = variants(t, &rhoOwn);
-    if (ownEquiAngular) {
-        bool ffOn = st.connect != ConnectMode::EquiAngular;
-        sum = 1.0 + (ffOn && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 0.0);
-    }
-    // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1) moved
-    // by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the subpath's
-    // V treats no camera vertex as the light), or (for i = 1, t = 2) the light side.
-    double p = t - 3 >= 1 ? camera[t - 3].misPrefix : 0.0;
+    // The V terms next to the connection, per channel (each may cost an equi-angular density).
+    WideChannels rhoOwn;
+    const WideChannels ownV = variants(t, &rhoOwn);
+    WideChannels camV[2], lightV[2];
+    bool camOn[2] = {false, false}, lightOn[2] = {false, false};
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
         bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1);
-        double term = !camera[i].delta && !camera[i - 1].delta ? (own ? camera[i].misVariant : variants(i, nullptr)) : 0.0;
-        p = ratioPow(h, camera[i]) * (term + p);
+        int slot = i - (t - 2);
+        camOn[slot] = !camera[i].delta && !camera[i - 1].delta;
+        if (camOn[slot]) camV[slot] = own ? camera[i].misVariant : variants(i, nullptr);
     }
-    sum += p;
-    // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on the
-    // camera side, made by free flight: relative to an equi-angular light connection that is
-    // a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every other
-    // strategy moves to the camera side.)
-    // V for y(s−2) is the subpath's own unless y(s−1) is an equi-angular camera connection's.
-    double q = s - 3 >= 0 ? light[s - 3].misPrefix : 0.0;
     for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
         bool own = i == s - 2 && !(t == 1 && ownEquiAngular);
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
-        double term = !light[i].delta && !deltaBefore ? (own ? light[i].misVariant : variants(t + s - i, nullptr)) : 0.0;
-        q = ratioPow(h, light[i]) * (term + q);
+        int slot = i - (s - 2);
+        lightOn[slot] = !light[i].delta && !deltaBefore;
+        if (lightOn[slot]) lightV[slot] = own ? light[i].misVariant : variants(t + s - i, nullptr);
     }
-    double c = ownEquiAngular && t >= 2 && rhoOwn > 0 ? misPower(h, 1.0 / rhoOwn) : 1.0;
-    sum += c * q;
-    return sum > 0 ? 1.0 / sum : 0.0;
+    // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
+    const Channels own = s >= 1 ? camera[t - 1].channelRatio * light[s - 1].channelRatio : camera[t - 1].channelRatio;
+
+    long double total = 0;
+    for (int c = 0; c < st.channels; ++c) {
+        // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
+        // free-flight one may underflow far from where free flight goes), so all ratios are
+        // then relative to the equi-angular variant: its own term is 1 and the free-flight
+        // one 1/ρ.
+        long double sum = ownV[c];
+        if (ownEquiAngular) {
+            bool ffOn = st.connect != ConnectMode::EquiAngular;
+            sum = 1.0L + (ffOn && rhoOwn[c] > 0 ? misPower(h, 1.0L / rhoOwn[c]) : 0.0L);
+        }
+        // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
+        // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
+        // subpath's V treats no camera vertex as the light), or (for i = 1, t = 2) the light
+        // side.
+        long double p = t - 3 >= 1 ? camera[t - 3].misPrefix[c] : 0.0L;
+        for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
+            int slot = i - (t - 2);
+            p = ratioPow(h, camera[i], c) * ((camOn[slot] ? camV[slot][c] : 0.0L) + p);
+        }
+        sum += p;
+        // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on
+        // the camera side, made by free flight: relative to an equi-angular light connection
+        // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
+        // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
+        // y(s−1) is an equi-angular camera connection's.
+        long double q = s - 3 >= 0 ? light[s - 3].misPrefix[c] : 0.0L;
+        for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
+            int slot = i - (s - 2);
+            q = ratioPow(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : 0.0L) + q);
+        }
+        long double cf = ownEquiAngular && t >= 2 && rhoOwn[c] > 0 ? misPower(h, 1.0L / rhoOwn[c]) : 1.0L;
+        sum += cf * q;
+        // Over channels: the other channels' densities of every strategy relative to the
+        // hero's of this one (docs/mis.md, "coloured media").
+        total += misPower(h, (long double)own[c]) * sum;
+    }
+    // One channel of st.channels was drawn: the estimate is divided by its probability.
+    return total > 0 ? double(st.channels / total) : 0.0;
 }
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)
@@ -155,7 +202,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
         const Light& l = scene.lights()[z.light];
         float pos, dir;
         emissionPdf(scene, l, z.p, z.ng, z.wo, &pos, &dir);
-        z.pdfRev = scene.lightDistribution().pmf(z.light) * pos;
+        z.pdfRev = Channels(scene.lightDistribution().pmf(z.light) * pos);
         PathVertex& zm = camera[t - 2];
         zm.pdfRev = solidAngleToArea(zm, z.wo, dir, z.edgeDist) * z.edgeRevFreeFlight;
         return;
@@ -170,7 +217,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
             // Parallel rays: the emission disk's area density projects onto z(t−1), no 1/d².
             float pos, dir;
             emissionPdf(scene, scene.lights()[y.light], y.p, y.ng, -w, &pos, &dir);
-            z.pdfRev = pos * (z.isSurface() ? std::abs(dot(z.ng, w)) : 1.0f) * join.freeFlightToCamera;
+            z.pdfRev = double(pos * (z.isSurface() ? std::abs(dot(z.ng, w)) : 1.0f)) * join.freeFlightToCamera;
         } else {
             z.pdfRev = solidAngleToArea(z, w, vertexDirectionPdf(scene, y, y.wo, -w, W, H), d) * join.freeFlightToCamera;
         }
@@ -178,7 +225,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
         zm.pdfRev = solidAngleToArea(zm, z.wo, vertexDirectionPdf(scene, z, w, z.wo, W, H), z.edgeDist) * z.edgeRevFreeFlight;
     }
     y.pdfRev = y.kind == VertexKind::Light && y.deltaLight
-                   ? 0.0
+                   ? Channels(0.0)
                    : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) * join.freeFlightToLight;
     if (s >= 2) {
         PathVertex& ym = light[s - 2];
@@ -189,7 +236,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
                       MisSettings st) {
     // The four densities are the subpaths' own outside this connection: put them back after.
-    double saved[4];
+    Channels saved[4];
     PathVertex* touched[4] = {&camera[t - 1], t >= 2 ? &camera[t - 2] : nullptr, s >= 1 ? &light[s - 1] : nullptr,
                               s >= 2 ? &light[s - 2] : nullptr};
     for (int i = 0; i < 4; ++i)

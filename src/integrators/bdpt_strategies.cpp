@@ -143,7 +143,7 @@ Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, 
 float weigh(const StrategyContext& c, PathVertex* light, int s, int t, const StrategyJoin& join) {
     if (!c.weighted) return 1.0f;
     float w = float(strategyWeight(c.scene, light, s, c.camera, t, join, c.mis));
-    if (c.options.observer) c.options.observer->onWeight(light, s, c.camera, t, w, join.equiAngular);
+    if (c.options.observer) c.options.observer->onWeight(light, s, c.camera, t, w, join.equiAngular, c.mis.hero);
     return w;
 }
 

@@ -47,12 +47,12 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
         back = dot(n, front) < 0;
     }
     y0.media = scene.lightMedia(li, back);
-    y0.pdfFwd = light.kind == LightKind::Directional ? pick : pick * pdfPos;
-    y0.beta = Spectrum(1.0f / float(y0.pdfFwd));
+    y0.pdfFwd = Channels(light.kind == LightKind::Directional ? pick : pick * pdfPos);
+    y0.beta = Spectrum(1.0f / float(y0.pdfFwd[0]));
     return y0;
 }
 
-int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter,
+int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int hero,
                        const Sampler& sampler, PathVertex* path, PathStats& stats) {
     const Camera& cam = scene.camera();
     Ray ray = cam.generateRay(fx, fy, width, height);
@@ -64,11 +64,12 @@ int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int he
     z0.media = scene.cameraMedia();
     z0.beta = Spectrum(1.0f);  // We·cosθ / p_dir = 1 for the pinhole
     WalkStart start{leaving(ray.o, Vec3(0.0f), ray.d), scene.cameraMedia(), Spectrum(1.0f),
-                    cameraPdfDir(cam, ray.d, width, height), width, height, dim::Side::Camera};
+                    cameraPdfDir(cam, ray.d, width, height), width, height, dim::Side::Camera, hero};
     return randomWalk(scene, start, TransportMode::Radiance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
 }
 
-int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler, PathVertex* path, PathStats& stats) {
+int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sampler& sampler, PathVertex* path,
+                      PathStats& stats) {
     if (scene.lightDistribution().empty()) return 0;
     float pick;
     int li = pickLight(scene, sampler, dim::kLightStart, 0, &pick);
@@ -89,12 +90,12 @@ int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler
     y0.wo = es.d;
     float cosLight = dot(es.n, es.n) > 0 ? std::abs(dot(es.n, es.d)) : 1.0f;
     Spectrum beta = es.Le * (cosLight / (pick * es.pdfPos * es.pdfDir));
-    WalkStart start{leaving(es.p, es.n, es.d), y0.media, beta, directional ? 1.0f : es.pdfDir, 0, 0, dim::Side::Light};
+    WalkStart start{leaving(es.p, es.n, es.d), y0.media, beta, directional ? 1.0f : es.pdfDir, 0, 0, dim::Side::Light, hero};
     int n = randomWalk(scene, start, TransportMode::Importance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
     if (directional && n > 1) {
         // Parallel rays: the disk's area density projects onto y1 with |cos| and no 1/d².
         PathVertex& y1 = path[1];
-        y1.pdfFwd = es.pdfPos * (y1.isSurface() ? std::abs(dot(y1.ng, y1.wo)) : 1.0f) * y1.edgeFwdFreeFlight;
+        y1.pdfFwd = double(es.pdfPos * (y1.isSurface() ? std::abs(dot(y1.ng, y1.wo)) : 1.0f)) * y1.edgeFwdFreeFlight;
     }
     return n;
 }

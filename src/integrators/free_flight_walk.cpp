@@ -3,7 +3,7 @@
 namespace brume {
 
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    const Sampler& sampler, uint32_t dims, PathStats& stats) {
+                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats) {
     Flight f;
     const Ray ray{seg.o, seg.d, seg.end};
     BoundaryWalk walk(scene, seg, media, stats);
@@ -15,7 +15,7 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
             const Medium& m = *piece.medium;
             const float uChannel = m.grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
             MediumSample ms = m.sampleDistance(ray, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
-                                               uChannel, startIsPoint && piece.index == 0);
+                                               uChannel, channels, startIsPoint && piece.index == 0);
             f.weight *= ms.weight;
             f.fwd *= ms.fwd;
             f.rev *= ms.rev;

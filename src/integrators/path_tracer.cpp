@@ -63,6 +63,12 @@ float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const M
     return equiAngularPdf(ea, origin.t);
 }
 
+// Channel probabilities in proportion to the throughput β (uniform if β is black).
+Spectrum throughputChannels(Spectrum beta) {
+    float sum = beta.x + beta.y + beta.z;
+    return sum > 0 ? beta / sum : Spectrum(1.0f / 3.0f);
+}
+
 bool usesDensity(ConnectMode m, const Light& l) { return m != ConnectMode::EquiAngular || l.kind == LightKind::Directional; }
 bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
 
@@ -98,7 +104,8 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
 // Strategy C: a light and its anchor first, then t equi-angularly on the segment, then the
 // connection. Returns the estimate to be multiplied by the throughput at the segment start.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
-                           ConnectMode mode, const Sampler& sampler, uint32_t dims, uint32_t repeat, PathStats& stats) {
+                           ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
+                           PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -125,7 +132,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
-    origin.pFreeFlight = float(tr.fwd);
+    origin.pFreeFlight = float(tr.fwd.mix(channels));  // what free flight would have had
     float pC = pick * ls.pdf * pea;
     float pA = mode == ConnectMode::Mis ? origin.pFreeFlight * pick * ls.pdf : 0.0f;
     float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;
@@ -171,18 +178,21 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 break;
             }
             MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
+            // In a coloured medium the channel that drives the distance is drawn in proportion
+            // to the throughput (medium.h): no channel's weight can then grow along the path.
+            const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
-                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, sampler, eaDims, repeat, stats);
+                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, stats);
 
-            // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, both averaged
-            // over the colour channels (free_flight.h).
+            // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
+            // over the channels.
             const float uChannel = m->grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
             MediumSample ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1,
-                                                sampler.get1D(dims + dim::kDistance, repeat), uChannel, false);
+                                                sampler.get1D(dims + dim::kDistance, repeat), uChannel, channels, false);
             beta *= ms.weight;
             if (ms.scattered) {
                 scattered = true;
-                prevOrigin = MediumOrigin{seg, ms.t - piece.t0, float(ms.fwd)};
+                prevOrigin = MediumOrigin{seg, ms.t - piece.t0, float(ms.pdf)};
                 break;
             }
             if (isBlack(ms.weight)) break;  // flew to infinity through a medium: T = 0
@@ -255,9 +265,13 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!isFinite(beta) || isBlack(beta)) break;
         }
 
-        // Russian roulette after three events: survive with probability min(0.95, max β).
-        if (depth >= 3) {
-            float survive = std::min(0.95f, maxComponent(beta));
+        // Russian roulette after three events, once the throughput has fallen below 1: survive
+        // with probability max β, so that β leaves roulette at most 1. (A cap below 1, such as
+        // 0.95, divides β by the cap at every event of a path that absorbs nothing; in a
+        // medium where paths are long, such as the densest channel of a coloured fog, the
+        // weights then grow faster than long paths become rare, and the variance is infinite.)
+        if (depth >= 3 && maxComponent(beta) < 1.0f) {
+            float survive = maxComponent(beta);
             if (sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }

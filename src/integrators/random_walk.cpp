@@ -32,7 +32,7 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
         Vec3 toV = v.p - prev.p;
         float dist = length(toV);
         if (!(dist > 0)) {
-            v.pdfFwd = prev.pdfRev = 0;
+            v.pdfFwd = prev.pdfRev = Channels(0.0);
             continue;
         }
         Vec3 w = toV / dist;
@@ -66,6 +66,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
     Spectrum beta = start.beta;
     float pdfDir = start.pdfDir;
     const float rrScale = maxComponent(start.beta) > 0 ? maxComponent(start.beta) : 1.0f;
+    const Spectrum channels = heroChannel(start.hero);
     int count = 1, scatters = 0;
     if (maxVertices > 1) path[1].ghost = false;
     while (count < maxVertices && scatters < maxScatter) {
@@ -80,13 +81,13 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
-        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), sampler, dims, stats);
+        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats);
         v.edgeEnd = f.firstEnd;
         if (f.end == Flight::End::Escape) return count;
         beta *= f.weight;
         media = f.media;
         const float dist = f.t;
-        const double fwdFF = f.fwd, revFF = f.rev;
+        const Channels fwdFF = f.fwd, revFF = f.rev;
         if (f.end == Flight::End::Collision) {
             v.kind = VertexKind::Medium;
             v.p = ray.o + ray.d * f.t;
@@ -114,6 +115,9 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.ghost = false;
         v.edgeRevFreeFlight = revFF;
         v.pdfFwd = solidAngleToArea(v, v.wo, pdfDir, dist) * fwdFF;
+        v.channelRatio = prev.channelRatio;
+        if (fwdFF[start.hero] > 0)
+            for (int c = 0; c < 3; ++c) v.channelRatio[c] *= fwdFF[c] / fwdFF[start.hero];
         ++count;
         ++scatters;
         // Until a next ray is traced, the slot after the path holds no ray record.
@@ -148,11 +152,12 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         prev.pdfRev = solidAngleToArea(prev, ray.d, pdfRevDir, dist) * revFF;
         if (!isFinite(beta) || isBlack(beta)) return count;
 
-        // Russian roulette from the fourth vertex: survive with min(0.95, max β / max β0).
+        // Russian roulette from the fourth vertex, once max β / max β0 has fallen below 1:
+        // survive with that probability (path_tracer.cpp says why not with a cap below 1).
         // Relative to the start: a light subpath's throughput carries the light's power
-        // (≫ 1), and without the scale it would only ever stop at the 0.95 cap.
-        if (count >= 4) {
-            float survive = std::min(0.95f, maxComponent(beta) / rrScale);
+        // (≫ 1), and without the scale it would never fall below 1.
+        if (count >= 4 && maxComponent(beta) < rrScale) {
+            float survive = maxComponent(beta) / rrScale;
             if (sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         }

@@ -45,7 +45,7 @@ Connection connectPoints(const Scene& scene, const WalkSegment& seg, const Mediu
     const Ray ray{seg.o, seg.d, seg.end};
     Connection c;
     Spectrum T(1.0f);
-    double toB = 1, toA = 1;
+    Channels toB, toA;
     BoundaryWalk walk(scene, seg, media, stats);
     BoundaryPiece piece;
     while (walk.next(&piece)) {

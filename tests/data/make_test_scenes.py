@@ -58,12 +58,14 @@ def inward_sphere(radius):
     return pos, idx
 
 
-def furnace(name, ambient, wall_albedo, wall_emission):
+def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorption=0.0, anisotropy=0.5):
+    """wall_albedo and wall_emission: a grey value or an RGB triple."""
+    rgb = lambda v: tuple(v) if isinstance(v, (tuple, list)) else (v,) * 3
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, 1.0)
-    fog = b.add_medium("fog", scattering=1.0, absorption=0.0, anisotropy=0.5)
-    wall = b.add_material("wall", base_color=(wall_albedo,) * 3, metallic=0.0, roughness=1.0,
-                          emissive=(wall_emission,) * 3)
+    fog = b.add_medium("fog", scattering=scattering, absorption=absorption, anisotropy=anisotropy)
+    wall = b.add_material("wall", base_color=rgb(wall_albedo), metallic=0.0, roughness=1.0,
+                          emissive=rgb(wall_emission))
     pos, idx = inward_sphere(FURNACE_RADIUS)
     if ambient:
         b.set_ambient(fog)
@@ -102,10 +104,10 @@ def empty(name):
     return b.write(out(name))
 
 
-def quad_light_fog(name):
+def quad_light_fog(name, scattering=SINGLE_SCATTERING, absorption=SINGLE_ABSORPTION):
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, 1.0)  # the quad (seen 0.28-0.38 rad above the axis) is in view
-    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    b.set_ambient(b.add_medium("fog", scattering, absorption, SINGLE_G))
     emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
                              emissive=(5.0, 5.0, 5.0))
     # 1 m x 1 m at y = 1, centred on (0, 1, -3); u x v = (0.5, 0, 0) x (0, 0, 0.5) points to -Y.
@@ -274,6 +276,13 @@ def main():
         furnace("furnace_ambient.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0),
         furnace("furnace_bounded.gltf", ambient=False, wall_albedo=0.0, wall_emission=1.0),
         furnace("furnace_albedo.gltf", ambient=True, wall_albedo=0.5, wall_emission=0.5),
+        # Coloured media (test_chromatic): a non-absorbing fog whose channels differ 4x inside
+        # coloured walls (exact answer 1), and a purely absorbing one (exact answer
+        # exp(-sigma_a * distance to the wall)).
+        furnace("furnace_chromatic.gltf", ambient=True, wall_albedo=(0.2, 0.5, 0.8),
+                wall_emission=(0.8, 0.5, 0.2), scattering=(0.5, 1.0, 2.0), anisotropy=-0.3),
+        furnace("furnace_absorbing.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0,
+                scattering=0.0, absorption=(0.1, 0.4, 1.2), anisotropy=0.0),
         single("single_near.gltf", (0.3, 0.2, -3.0)),
         single("single_behind.gltf", (0.5, 0.0, 2.0)),
         single("single_side.gltf", (3.0, 1.0, -2.0)),
@@ -282,6 +291,11 @@ def main():
         single_spot("single_spot.gltf"),
         empty("empty.gltf"),
         quad_light_fog("quad_light_fog.gltf"),
+        # Strongly coloured fog (extinction 0.12 to 1.3 /m, ratio 11) for the MIS weight checker
+        # and the single-scattering quadrature.
+        quad_light_fog("quad_light_fog_chromatic.gltf", scattering=(0.1, 0.4, 1.2), absorption=(0.02, 0.05, 0.1)),
+        single("single_chromatic_strong.gltf", (0.3, 0.2, -3.0), scattering=(0.1, 0.4, 1.2),
+               absorption=(0.02, 0.05, 0.1), anisotropy=0.3),
         single("sphere_light_fog.gltf", (0.3, 0.2, -3.0), radius=0.25),
         # Sphere light partly in view (test_pt_area_oracles).
         single("area_sphere.gltf", (0.8, 0.5, -3.0), radius=0.3),

@@ -11,13 +11,14 @@ namespace brume {
 struct PathVertex;
 
 // Tests: told of every weighted contribution, with the two subpaths as joined (for s = 1 the
-// light "subpath" is the sampled light vertex alone).
+// light "subpath" is the sampled light vertex alone) and the sample's hero channel (coloured
+// media: the weight is then taken over channels too, times their count; bdpt_mis.h).
 class BdptObserver {
 public:
     virtual ~BdptObserver() = default;
     // equiAngular: the sample is the equi-angular variant (z(t−1) moved towards y(s−1)).
     virtual void onWeight(const PathVertex* light, int s, const PathVertex* camera, int t, float weight,
-                          bool equiAngular) const = 0;
+                          bool equiAngular, int hero) const = 0;
 };
 
 struct BdptOptions {

@@ -18,6 +18,10 @@ struct MisSettings {
     // medium, clipped as the sampler clips it (one ray cast per density; for measurements).
     bool exactEquiAngular = false;
     int width = 0, height = 0;  // the film, for clipping to the view frustum
+    // Colour channels the weights run over (Scene::mediumChannels: 1 without coloured media)
+    // and the sample's hero channel, which drove every free-flight distance of both walks.
+    int channels = 1;
+    int hero = 0;
 };
 
 // Stores in each vertex of a subpath (n vertices) the sums misWeight needs of it, from the
@@ -28,8 +32,8 @@ void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, M
 
 // What a strategy's weight needs of the connection it made between y(s−1) and z(t−1).
 struct StrategyJoin {
-    double freeFlightToCamera = 1;  // a walk y(s−1) → z(t−1) stopping at z(t−1) (Connection::freeFlightToA)
-    double freeFlightToLight = 1;   // a walk z(t−1) → y(s−1) stopping at y(s−1) (Connection::freeFlightToB)
+    Channels freeFlightToCamera;    // a walk y(s−1) → z(t−1) stopping at z(t−1) (Connection::freeFlightToA)
+    Channels freeFlightToLight;     // a walk z(t−1) → y(s−1) stopping at y(s−1) (Connection::freeFlightToB)
     bool crossed = false;           // the connecting segment crossed an invisible boundary
     bool equiAngular = false;       // the sample is the strategy's equi-angular variant
 };

@@ -20,12 +20,14 @@ constexpr int kMaxSubpathVertices = 1024;  // per subpath; Russian roulette ends
 PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos);
 
 // Camera subpath through film position (fx, fy); at most maxScatter scattering events (plus
-// a last vertex on an emitter). Returns the vertex count, z0 included.
-int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter,
+// a last vertex on an emitter). Returns the vertex count, z0 included. hero: the colour
+// channel that drives free flight in coloured media (both subpaths of a sample share it).
+int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int hero,
                        const Sampler& sampler, PathVertex* path, PathStats& stats);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing).
-int traceLightSubpath(const Scene& scene, int maxScatter, const Sampler& sampler, PathVertex* path, PathStats& stats);
+int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sampler& sampler, PathVertex* path,
+                      PathStats& stats);
 
 }  // namespace brume

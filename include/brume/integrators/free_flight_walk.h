@@ -16,15 +16,16 @@ struct Flight {
     const Medium* medium = nullptr;  // End::Collision: where it happened
     MediumStack media;               // the media where the flight ended
     Spectrum weight{1.0f};           // product of the pieces' throughput weights
-    double fwd = 1, rev = 1;         // free-flight densities: this flight's, and a walk back's
+    Channels fwd, rev;               // free-flight densities per channel: this flight's, a walk back's
     bool crossed = false;            // passed an invisible boundary
     float firstEnd = kInfinity;      // where the segment's first piece ends
 };
 
 // Along seg (a ray: leaving(), end +∞). startIsPoint: it starts at a medium vertex (the
-// reverse walk would scatter there). Numbers: dims + kDistance and dims + kChannel, with the
-// piece index as repeat.
+// reverse walk would scatter there). channels: the probabilities with which each colour
+// channel drives the distance (Medium::sampleDistance). Numbers: dims + kDistance and
+// dims + kChannel, with the piece index as repeat.
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    const Sampler& sampler, uint32_t dims, PathStats& stats);
+                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats);
 
 }  // namespace brume

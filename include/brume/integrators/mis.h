@@ -13,5 +13,6 @@ inline float powerHeuristic(float pa, float pb) {
 
 // r^β for a density ratio r: β = 2 (power) or 1 (balance).
 inline double misPower(MisHeuristic h, double r) { return h == MisHeuristic::Power ? r * r : r; }
+inline long double misPower(MisHeuristic h, long double r) { return h == MisHeuristic::Power ? r * r : r; }
 
 }  // namespace brume

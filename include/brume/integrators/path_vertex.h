@@ -1,9 +1,10 @@
 // A vertex of a camera or light subpath (bidirectional methods). Densities are in area
 // measure at the vertex, with no cosine at medium vertices, and include the free-flight
 // density of the event that made the vertex: σt·T for a scattering point in a medium, the
-// pass probability T for a surface beyond a medium (both averaged over the colour channels,
-// as free_flight.h samples them). pdfFwd is for the subpath's own direction; pdfRev for the
-// reverse, i.e. the density with which the other subpath's walk would have made this vertex.
+// pass probability T for a surface beyond a medium. They are kept per colour channel: the
+// walks sample distances with one (hero) channel, and the weights are taken over channels
+// too (bdpt_mis.h). pdfFwd is for the subpath's own direction; pdfRev for the reverse, i.e.
+// the density with which the other subpath's walk would have made this vertex.
 #pragma once
 #include "brume/math/vec3.h"
 #include "brume/scene/bsdf.h"
@@ -27,13 +28,13 @@ struct PathVertex {
     MediumStack media;       // the media where the vertex was reached (the incoming side of a surface)
     Spectrum beta{1.0f};     // subpath throughput up to and including this vertex
     // Densities in double: products of free-flight densities over long edges leave float's range.
-    double pdfFwd = 0;       // area density of making this vertex from the previous one
-    double pdfRev = 0;       // area density of making it from the next one
+    Channels pdfFwd{0.0};    // area density of making this vertex from the previous one
+    Channels pdfRev{0.0};    // area density of making it from the next one
     // The edge from the previous vertex to this one: its length and the free-flight density
     // of the reverse walk's event at the previous vertex (see random_walk.cpp).
     float edgeDist = 0;
-    double edgeFwdFreeFlight = 1;
-    double edgeRevFreeFlight = 1;
+    Channels edgeFwdFreeFlight;
+    Channels edgeRevFreeFlight;
     // The walk's ray for that edge, for the equi-angular variant of a medium vertex: its origin,
     // the distance along it to the surface ending the medium, the throughput at its start, and
     // whether it crossed an invisible boundary (then there is no such variant).
@@ -48,8 +49,11 @@ struct PathVertex {
     bool ghost = false;
     // The MIS partial sums of the subpath up to this vertex (bdpt_mis.h, misPrefixes): kept in
     // the vertex, as SmallVCM keeps its, so a stored subpath carries what its weights need.
-    double misPrefix = 0;
-    double misVariant = 1;
+    WideChannels misPrefix{0.0L};
+    WideChannels misVariant{1.0L};
+    // Π over this subpath's vertices up to this one of edgeFwdFreeFlight_c / _h (h: the
+    // sample's hero channel): the subpath's density in channel c relative to the hero's.
+    Channels channelRatio;
 
     bool isSurface() const { return kind == VertexKind::Surface; }
     bool isMedium() const { return kind == VertexKind::Medium; }

@@ -15,6 +15,7 @@ struct WalkStart {
     float pdfDir = 0;    // solid-angle density of ray.d at path[0]
     int width = 0, height = 0;  // the image, for the camera's direction density
     dim::Side side = dim::Side::Camera;  // whose dimensions the walk reads (sample_dimensions.h)
+    int hero = 0;        // the colour channel that drives free flight (bdpt_mis.h)
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

@@ -3,6 +3,7 @@
 // before. One table for both integrators:
 //
 //   film jitter                                  kFilmJitter (2D)
+//   hero channel of a BDPT sample (coloured media) kHeroChannel
 //   light subpath start: light pick, emission    kLightStart + kPick, kPosition (2D), kEmitDir (2D)
 //   camera vertex k, light vertex k (the walk    walkVertex(side, k) + kDistance, kChannel,
 //     that leaves vertex k and makes k + 1)        kDirection (2D), kLobe, kRoulette
@@ -23,6 +24,7 @@
 namespace brume::dim {
 
 constexpr uint32_t kFilmJitter = 0;
+constexpr uint32_t kHeroChannel = 2;
 constexpr uint32_t kLightStart = 8;
 constexpr uint32_t kPosition = 1, kEmitDir = 3;  // after kPick (0)
 

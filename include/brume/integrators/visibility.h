@@ -22,8 +22,8 @@ Spectrum transmittanceAlong(const Scene& scene, const WalkSegment& seg, const Me
 // the end contributes its scattering density instead.
 struct Connection {
     Spectrum T{0.0f};
-    double freeFlightToB = 1;  // walk a → b stops at b
-    double freeFlightToA = 1;  // walk b → a stops at a
+    Channels freeFlightToB;   // walk a → b stops at b (per colour channel)
+    Channels freeFlightToA;   // walk b → a stops at a
     bool crossed = false;     // passed through an invisible boundary
 };
 

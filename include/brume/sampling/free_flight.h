@@ -1,8 +1,7 @@
-// Free-flight (density) sampling in a homogeneous medium with RGB extinction σt: the closed
-// forms behind Medium (scene/medium.h), which is what integrators call.
-// One channel c is picked uniformly and t ~ σt_c·exp(−σt_c·t); the density of the sample
-// is the average over channels (one-sample MIS with the balance heuristic across channels),
-// so no channel's weight blows up when another channel is much denser.
+// Free-flight (density) sampling in a homogeneous medium, one colour channel at a time: the
+// closed forms behind Medium (scene/medium.h), which is what integrators call. A coloured
+// medium samples with one channel's extinction and weighs the channels' densities
+// (docs/path-tracer.md, "coloured media").
 #pragma once
 #include "brume/math/vec3.h"
 
@@ -15,15 +14,15 @@ inline Spectrum transmittanceOver(Spectrum sigmaT, float t) {
     return {tr(sigmaT.x), tr(sigmaT.y), tr(sigmaT.z)};
 }
 
-// uChannel in [0,1) picks the channel (thirds: red, green, blue; not read for a grey medium),
-// uDistance the distance. Returns +∞ if the chosen channel has σt = 0.
-float sampleFreeFlight(Spectrum sigmaT, float uDistance, float uChannel);
+// t ~ σt·exp(−σt·t) from uDistance; +∞ if σt = 0.
+float sampleFreeFlight(float sigmaT, float uDistance);
 
-// Density of scattering at t: avg_c σt_c·exp(−σt_c·t). In double: MIS weights multiply these
-// over long edges, where float would underflow.
-double freeFlightPdfScatter(Spectrum sigmaT, float t);
+// The channel c with probability weights[c] (non-negative, summing to 1) from u in [0, 1).
+int pickChannel(Spectrum weights, float u);
 
-// Probability of flying past t: avg_c exp(−σt_c·t).
-double freeFlightPdfPass(Spectrum sigmaT, float t);
+// Density of scattering at t, σt·exp(−σt·t), and of flying past t, exp(−σt·t). In double:
+// MIS weights multiply these over long edges, where float would underflow.
+double freeFlightPdfScatter(float sigmaT, float t);
+double freeFlightPdfPass(float sigmaT, float t);
 
 }  // namespace brume

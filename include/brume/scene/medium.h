@@ -3,17 +3,24 @@
 // o + t·d over a piece [t0, t1] that lies in this medium, so that a medium whose coefficients
 // vary in space can answer the same questions:
 //   sampleDistance  free flight over the piece: a collision or a pass, its throughput weight
-//                   and the densities of both walk directions (the MIS weights need both);
-//   transit         transmittance over the piece and the same two densities, for points that
+//                   and, per colour channel, the densities of both walk directions (the MIS
+//                   weights need both);
+//   transit         transmittance over the piece and the same densities, for points that
 //                   were joined rather than sampled;
 //   sigmaSAt, g     scattering coefficient and phase function at a point.
 // Today's media are homogeneous (coefficients in 1/m, Henyey–Greenstein anisotropy g): the
 // closed forms of sampling/free_flight.h, one exp for grey media. A heterogeneous medium
 // would answer sampleDistance by delta tracking against a majorant and transit by ratio
-// tracking (the densities then being those of the tracking's own events); per-channel
-// (spectral) MIS would carry a density per colour channel where `double` stands now.
+// tracking (the densities then being those of the tracking's own events).
+//
+// Coloured media (docs/path-tracer.md, "coloured media"): the caller says with what
+// probability each channel drives the distance (its `channels` weights: the path throughput
+// in pt, the sample's hero channel in bdpt); the distance is sampled with that channel's
+// extinction and the weight divides by the mixture Σ_c w_c·p_c. The densities come back per
+// channel so that the caller can form any mixture it needs.
 #pragma once
 #include <string>
+#include "brume/math/channels.h"
 #include "brume/math/ray.h"
 #include "brume/sampling/sampler.h"
 
@@ -23,18 +30,19 @@ namespace brume {
 struct MediumSample {
     bool scattered = false;  // a collision at t (< t1); otherwise the flight passed t1
     float t = 0;
-    Spectrum weight{1.0f};   // T·σs / p_scatter, or T / P_pass
-    // Free-flight densities: fwd, of this flight's outcome (scattering density at t, or the
-    // probability of passing t1); rev, of a walk in the opposite direction stopping at t0
-    // (its scattering density there if t0 is a medium point, else its pass probability).
-    double fwd = 1, rev = 1;
+    Spectrum weight{1.0f};   // T·σs / p_scatter, or T / P_pass, per channel (p, P: the mixture)
+    // Free-flight densities per channel: fwd, of this flight's outcome (scattering density at
+    // t, or the probability of passing t1); rev, of a walk in the opposite direction stopping
+    // at t0 (its scattering density there if t0 is a medium point, else its pass probability).
+    Channels fwd, rev;
+    double pdf = 1;          // the mixture of fwd that was sampled: Σ_c w_c·fwd_c
 };
 
 // Transmittance over a piece and the densities of the two walks that would cross it, each
 // stopping at its far end if that end is a medium point (scattering density) or passing it.
 struct MediumTransit {
     Spectrum T{1.0f};
-    double fwd = 1, rev = 1;  // walk t0 → t1, walk t1 → t0
+    Channels fwd, rev;  // walk t0 → t1, walk t1 → t0
 };
 
 struct Medium {
@@ -50,13 +58,21 @@ struct Medium {
     }
 
     // Free flight from t0 along the ray, stopping at a collision before t1 or passing t1
-    // (t1 = +∞ allowed). uDistance picks the distance, uChannel the colour channel whose
-    // extinction drives it (ignored in grey media: callers need not draw it). startIsPoint: t0 is a medium vertex.
+    // (t1 = +∞ allowed). uDistance picks the distance; uChannel the channel that drives it,
+    // with probabilities `channels` (non-negative, summing to 1; both ignored in grey media,
+    // so callers need not draw uChannel there). startIsPoint: t0 is a medium vertex.
     MediumSample sampleDistance(const Ray& ray, float t0, float t1, float uDistance, float uChannel,
-                                bool startIsPoint) const;
+                                Spectrum channels, bool startIsPoint) const;
     MediumTransit transit(const Ray& ray, float t0, float t1, bool startIsPoint, bool endIsPoint) const;
     Spectrum transmittance(const Ray& ray, float t0, float t1) const;
     Spectrum sigmaSAt(Vec3 p) const { return sigmaS; }
 };
+
+// The channel weights of a sample with hero channel h (bidirectional walks): all on h.
+inline Spectrum heroChannel(int h) {
+    Spectrum w(0.0f);
+    w[h] = 1.0f;
+    return w;
+}
 
 }  // namespace brume

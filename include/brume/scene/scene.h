@@ -55,6 +55,10 @@ public:
     bool hasMedia() const { return !desc_.media.empty(); }
     // True if some mesh is an invisible medium boundary that rays pass through.
     bool hasInvisibleBoundaries() const { return hasInvisibleBoundaries_; }
+    // Colour channels whose free-flight densities differ somewhere: 3 if some medium is
+    // coloured (its extinction differs between channels), else 1 (the MIS over channels of
+    // the bidirectional tracer then has one term, and costs nothing).
+    int mediumChannels() const { return mediumChannels_; }
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
 
@@ -87,7 +91,8 @@ private:
     MediumStack cameraMedia_;
     bool hasBoundedMedia_ = false;
     std::vector<MediumStack> lightMedia_;  // per light: front side; then per light: back side
-    bool hasInvisibleBoundaries_ = false;  // per mesh, -1 if not emissive
+    bool hasInvisibleBoundaries_ = false;
+    int mediumChannels_ = 1;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

@@ -54,13 +54,16 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // likewise s = nLight + 1 for equi-angular camera connections on the light walk's.
     const bool anyEquiAngular = options_.connect != ConnectMode::Density;
     for (int t = 1; t <= nCamera + (anyEquiAngular ? 1 : 0); ++t) {
-        if (t > nCamera && !camera[t - 1].ghost) break;
+        // (A subpath that filled its array has no slot after it, so no ray record.)
+        if (t > nCamera && (nCamera >= kMaxSubpathVertices || !camera[t - 1].ghost)) break;
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
         for (int s = 0; s <= std::max(nLight, 1) + (anyEquiAngular && t == 1 ? 1 : 0); ++s) {
             if (s == 0 && t < 2) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
             if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
-            if ((t == 1 || s > 1) && s > nLight && !(t == 1 && s == nLight + 1 && s >= 2 && light[s - 1].ghost)) continue;
+            if ((t == 1 || s > 1) && s > nLight &&
+                !(t == 1 && s == nLight + 1 && s >= 2 && nLight < kMaxSubpathVertices && light[s - 1].ghost))
+                continue;
             if (s == 0) {
                 L += emitterHit(c, t);
             } else if (t == 1) {

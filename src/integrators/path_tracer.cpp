@@ -265,14 +265,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!isFinite(beta) || isBlack(beta)) break;
         }
 
-        // Russian roulette after three events, once the throughput has fallen below 1: survive
-        // with probability max β, so that β leaves roulette at most 1. (A cap below 1, such as
-        // 0.95, divides β by the cap at every event of a path that absorbs nothing; in a
-        // medium where paths are long, such as the densest channel of a coloured fog, the
-        // weights then grow faster than long paths become rare, and the variance is infinite.)
-        if (depth >= 3 && maxComponent(beta) < 1.0f) {
-            float survive = maxComponent(beta);
-            if (sampler.get1D(dims + dim::kRoulette) >= survive) break;
+        // Russian roulette after three events (sample_dimensions.h: kRoulette).
+        if (depth >= 3) {
+            float survive = rouletteSurvival(beta, 1.0f, depth);
+            if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }
     }

@@ -152,13 +152,17 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         prev.pdfRev = solidAngleToArea(prev, ray.d, pdfRevDir, dist) * revFF;
         if (!isFinite(beta) || isBlack(beta)) return count;
 
-        // Russian roulette from the fourth vertex, once max β / max β0 has fallen below 1:
-        // survive with that probability (path_tracer.cpp says why not with a cap below 1).
-        // Relative to the start: a light subpath's throughput carries the light's power
-        // (≫ 1), and without the scale it would never fall below 1.
-        if (count >= 4 && maxComponent(beta) < rrScale) {
-            float survive = maxComponent(beta) / rrScale;
-            if (sampler.get1D(dims + dim::kRoulette) >= survive) return count;
+        // Russian roulette from the fourth vertex, relative to the start: a light subpath's
+        // throughput carries the light's power (≫ 1) (integrator.h: rouletteSurvival). In
+        // coloured media β is f / p_hero, which for another channel c can be far from what
+        // the path is worth there; the roulette reads f / avg_c p_c = β / avg_c (p_c / p_hero)
+        // instead (bounded by 3 f_c / p_c). On β itself, a path whose hero channel is dim
+        // would be cut and its survivors' other channels multiplied up at every bounce.
+        if (count >= 4) {
+            const Channels& r = v.channelRatio;
+            const double avg = (r[0] + r[1] + r[2]) / 3.0;
+            float survive = rouletteSurvival(avg > 0 && avg != 1.0 ? beta / float(avg) : beta, rrScale, count);
+            if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         }
         ray = leaving(v.p, v.isSurface() ? v.ng : Vec3(0.0f), wi);

@@ -66,6 +66,8 @@ TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][
         {"single_behind.gltf", Vec3(0.5f, 0, 2), grey02, grey005, 0.3, false},
         {"single_side.gltf", Vec3(3, 1, -2), grey02, grey005, 0.3, false},
         {"single_chromatic.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.3f, 0.2f, 0.1f), Vec3(0.02f, 0.05f, 0.1f), -0.4, false},
+        // Strongly coloured: extinction 0.12 to 1.3 /m (ratio 11).
+        {"single_chromatic_strong.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.1f, 0.4f, 1.2f), Vec3(0.02f, 0.05f, 0.1f), 0.3, false},
         {"single_spot.gltf", Vec3(0, 1.5f, -3), grey02, grey005, 0.3, true},
         // Free-flight samples rarely reach the light here (mean free path 0.4 m, light 3 m
         // away): the density estimator's rare large values make its standard error unreliable

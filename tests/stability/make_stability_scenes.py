@@ -159,6 +159,22 @@ def directional(name, sun_node_inside):
     return b.write(out(name))
 
 
+def blue_haze(name):
+    """Coloured haze (scattering (0.02, 0.05, 0.2) /m, absorption 0.002, g = 0.3) in a fog box
+    x in [-8, 8], y in [-1, 6], z in [-20, 1] (vacuum outside, so that sunlight enters it),
+    over a grey ground at y = -1: a street lamp (point, 10 W/sr, warm white) at (1, 2, -6)
+    and a sun (2 W/m^2) travelling along (0.3, -1, -0.5)."""
+    b = builder()
+    haze = b.add_medium("haze", (0.02, 0.05, 0.2), 0.002, 0.3)
+    add_fog_box(b, "haze_box", (-8.0, -1.0, -20.0), (8.0, 6.0, 1.0), haze)
+    add_quad(b, "ground", (0.0, -1.0, -9.5), (8.0, 0.0, 0.0), (0.0, 0.0, -10.5), (0.0, 1.0, 0.0), grey(b))
+    b.add_light("lamp", "point", (1.0, 0.85, 0.6), 10.0, translation=(1.0, 2.0, -6.0))
+    d = g.normalize((0.3, -1.0, -0.5))
+    rot = g.quat_look_dir(d)
+    b.add_light("sun", "directional", (1.0, 1.0, 1.0), 2.0, translation=(0.0, 10.0, -8.0), rotation=rot)
+    return b.write(out(name))
+
+
 def light_box_scene(b, offset):
     """A point light and a small sphere light inside a 2 m fog box (vacuum outside) above a grey
     floor outside the box, everything shifted by `offset`. Every coordinate is a multiple of
@@ -305,6 +321,7 @@ def main():
         anisotropic("g_backward.gltf", -0.999, (0.1, 0.05, 1.0)),
         directional("directional.gltf", sun_node_inside=False),
         directional("directional_node_inside.gltf", sun_node_inside=True),
+        blue_haze("blue_haze.gltf"),
         tiny_spot("tiny_spot.gltf"),
         camera_in_beam("camera_in_beam.gltf"),
         light_in_box("light_in_box.gltf"),

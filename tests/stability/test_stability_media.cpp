@@ -1,4 +1,5 @@
-// Stability: extreme media (σt × scene size = 50, σt = 1e-6) and extreme anisotropy (g = ±0.999).
+// Stability: extreme media (σt × scene size = 50, σt = 1e-6), extreme anisotropy (g = ±0.999)
+// and a coloured haze whose channels differ 10×.
 #include "stability/stability_case.h"
 
 using namespace brume;
@@ -43,4 +44,8 @@ TEST_CASE("stability: g = -0.999", "[stability]") {
     // sets bdpt:equiangular reached z = 6.4.
     runStabilityCase(
         StabilityCase("g_backward", "g_backward.gltf").weakMethod(kBdptEquiAngular, 0.74, 0.02, true));
+}
+
+TEST_CASE("stability: blue haze (coloured fog, a street lamp and a sun)", "[stability][chromatic]") {
+    runStabilityCase(StabilityCase("blue_haze", "blue_haze.gltf"));
 }

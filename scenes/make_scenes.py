@@ -1013,6 +1013,49 @@ def make_lighthouse(path):
     return b.write(path)
 
 
+def make_dusk_haze(path):
+    """A causeway at dusk in coloured haze: extinction three times as high in blue as in red
+    (scattering (0.012, 0.022, 0.04) /m). Near lamps light a bluish glow; the far lamps and
+    the low sky at the end of the road come through reddened."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=(0.0, 1.6, 4.0))
+    b.set_ambient(b.add_medium("dusk_haze", (0.012, 0.022, 0.04), 0.004, 0.4))
+    m_road = b.add_material("road", base_color=(0.22, 0.22, 0.23))
+    m_iron = b.add_material("lamp_iron", base_color=(0.05, 0.05, 0.055))
+    m_sky = b.add_material("low_sky", base_color=(0.0, 0.0, 0.0), emissive=(1.0, 0.62, 0.42),
+                           emissive_strength=1.2)
+    # Road: 16 m wide, from z = 10 to z = -150, normal +Y.
+    road = Geometry()
+    road.append(g.quad((0.0, 0.0, -70.0), (0.0, 0.0, 80.0), (8.0, 0.0, 0.0)))
+    assert g.triangle_normal(road.positions, road.indices, 0)[1] > 0
+    b.add_node("road", mesh=b.add_mesh("road", road.positions, road.indices, normals=road.normals, uvs=road.uvs,
+                                       material=m_road))
+    # A low band of sky at the end of the road, facing the camera (+Z).
+    sky = Geometry()
+    sky.append(g.quad((0.0, 6.0, -150.0), (60.0, 0.0, 0.0), (0.0, 6.0, 0.0)))
+    assert g.triangle_normal(sky.positions, sky.indices, 0)[2] > 0
+    b.add_node("low_sky", mesh=b.add_mesh("low_sky", sky.positions, sky.indices, normals=sky.normals,
+                                          uvs=sky.uvs, material=m_sky))
+    # Lamp posts on both sides every 10 m: an iron pole and arm, a warm sphere light under it.
+    posts = Geometry()
+    lamps = []
+    for k in range(9):
+        z = -6.0 - 10.0 * k
+        for side in (-1.0, 1.0):
+            x = 4.6 * side
+            posts.append(box_between((x - 0.06, 0.0, z - 0.06), (x + 0.06, 4.4, z + 0.06)))
+            arm_lo, arm_hi = sorted((x, x - 1.1 * side))
+            posts.append(box_between((arm_lo, 4.34, z - 0.04), (arm_hi, 4.42, z + 0.04)))
+            lamps.append((x - 1.0 * side, 4.12, z))
+    b.add_node("lamp_posts", mesh=b.add_mesh("lamp_posts", posts.positions, posts.indices, normals=posts.normals,
+                                             uvs=posts.uvs, material=m_iron))
+    for i, p in enumerate(lamps):
+        # Clear of the arm above (bottom at 4.34) and of the pole.
+        assert p[1] + 0.12 < 4.34 and abs(abs(p[0]) - 4.6) > 0.5
+        b.add_light("lamp_%d" % i, "point", (1.0, 0.78, 0.5), 30.0, translation=p, radius=0.12)
+    return b.write(path)
+
+
 def main():
     written = [
         make_street(os.path.join(HERE, "street.gltf")),
@@ -1026,6 +1069,7 @@ def main():
         make_caustic(os.path.join(HERE, "caustic.gltf")),
         make_smoke_box(os.path.join(HERE, "smoke_box.gltf")),
         make_lighthouse(os.path.join(HERE, "lighthouse.gltf")),
+        make_dusk_haze(os.path.join(HERE, "dusk_haze.gltf")),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

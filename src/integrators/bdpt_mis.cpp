@@ -20,28 +20,47 @@ namespace brume {
 
 namespace {
 
+// The MIS sums kept in the vertices: without coloured media one sum in double; with them one
+// per channel in long double (ratios between channels are what leaves double's range).
+template <class Real> struct Sums;
+template <> struct Sums<double> {
+    static double prefix(const PathVertex& v, int) { return v.misPrefixGrey; }
+    static ChannelsOf<double> variant(const PathVertex& v) { return ChannelsOf<double>(v.misVariantGrey); }
+    static void set(PathVertex& v, int, double prefix) { v.misPrefixGrey = prefix; }
+    static void setVariant(PathVertex& v, const ChannelsOf<double>& V) { v.misVariantGrey = V[0]; }
+};
+template <> struct Sums<long double> {
+    static long double prefix(const PathVertex& v, int c) { return v.misPrefix[c]; }
+    static WideChannels variant(const PathVertex& v) { return v.misVariant; }
+    static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = prefix; }
+    static void setVariant(PathVertex& v, const WideChannels& V) { v.misVariant = V; }
+};
+
 double remap0(double f) { return f != 0 ? f : 1.0; }
 
 // r^β at a vertex in channel c; zero densities (specular vertices) are mapped to 1 so that
 // they cancel.
-long double ratioPow(MisHeuristic h, const PathVertex& v, int c) {
-    return misPower(h, (long double)remap0(v.pdfRev[c]) / remap0(v.pdfFwd[c]));
+template <class Real>
+Real ratioPow(MisHeuristic h, const PathVertex& v, int c) {
+    return misPower(h, Real(remap0(v.pdfRev[c])) / Real(remap0(v.pdfFwd[c])));
 }
 
 // ρ_c = p_ea / p_ff,c for a camera-side medium vertex v reached from p and joined to a. In
-// long double, as all the sums below: far along a ray a dense channel's free-flight density
+// Real, as all the sums below: far along a ray a dense channel's free-flight density
 // can be 1e-180 where the equi-angular one is 1e-10, and ρ² leaves double's range.
-WideChannels equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a,
+template <class Real, int N>
+ChannelsOf<Real> equiAngularRatio(const Scene& scene, const PathVertex& p, const PathVertex& v, const PathVertex& a,
                               bool aEndsPath, MisSettings st) {
-    if (!v.isMedium() || p.delta) return WideChannels(0.0L);
+    using RC = ChannelsOf<Real>;
+    if (!v.isMedium() || p.delta) return RC(Real(0));
     EquiAngularAim aim = equiAngularAim(scene, a, aEndsPath);
-    if (!aim.valid) return WideChannels(0.0L);
+    if (!aim.valid) return RC(Real(0));
     float dist = length(v.p - p.p);
-    if (!(dist > 0)) return WideChannels(0.0L);
+    if (!(dist > 0)) return RC(Real(0));
     Channels pff = v.medium->transit(Ray{p.p, (v.p - p.p) / dist, dist}, 0.0f, dist, false, true).fwd;
-    WideChannels rho(0.0L);
-    long double pea = -1;
-    for (int c = 0; c < st.channels; ++c) {
+    RC rho(Real(0));
+    Real pea = -1;
+    for (int c = 0; c < N; ++c) {
         if (!(pff[c] > 0)) continue;
         if (pea < 0) pea = equiAngularDensity(scene, p, v, aim, st);
         rho[c] = pea / pff[c];
@@ -53,57 +72,64 @@ WideChannels equiAngularRatio(const Scene& scene, const PathVertex& p, const Pat
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
 // [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
 // equi-angular variant).
-WideChannels variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                           bool anchorEndsPath, bool edgeCrossed, MisSettings st, WideChannels* rho) {
-    WideChannels r(0.0L);
+template <class Real, int N>
+ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
+                           bool anchorEndsPath, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho) {
+    using RC = ChannelsOf<Real>;
+    RC r(Real(0));
     if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed)
-        r = equiAngularRatio(scene, prev, v, anchor, anchorEndsPath, st);
+        r = equiAngularRatio<Real, N>(scene, prev, v, anchor, anchorEndsPath, st);
     if (rho) *rho = r;
-    WideChannels V(1.0L);
-    for (int c = 0; c < st.channels; ++c) {
+    RC V(Real(1));
+    for (int c = 0; c < N; ++c) {
         bool eaOn = r[c] > 0;
         bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
-        V[c] = (ffOn ? 1.0L : 0.0L) + (eaOn ? misPower(st.heuristic, r[c]) : 0.0L);
+        V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
     return V;
 }
 
-}  // namespace
-
-void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings st) {
+template <class Real, int N>
+void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings st) {
+    using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
     if (cameraSide) {
         // V_j (j camera vertices): z(j−1) reached from z(j−2), joined to z(j); for j = 1 the
         // camera connection: x1 reached from x2, joined to the pinhole.
-        if (n > 0) path[0].misPrefix = WideChannels(0.0L), path[0].misVariant = WideChannels(1.0L);
+        if (n > 0) {
+            for (int c = 0; c < N; ++c) Sums<Real>::set(path[0], c, Real(0));
+            Sums<Real>::setVariant(path[0], RC(Real(1)));
+        }
         for (int j = 1; j < n; ++j) {
-            if (j >= 2)
-                path[j].misVariant = variantFactor(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr);
-            else
-                path[j].misVariant = n >= 3 ? variantFactor(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr)
-                                            : WideChannels(1.0L);
+            const RC V = j >= 2 ? variantFactor<Real, N>(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr)
+                         : n >= 3   ? variantFactor<Real, N>(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr)
+                                    : RC(Real(1));
+            Sums<Real>::setVariant(path[j], V);
             const bool on = !path[j].delta && !path[j - 1].delta;
-            for (int c = 0; c < st.channels; ++c)
-                path[j].misPrefix[c] = ratioPow(h, path[j], c) * ((on ? path[j].misVariant[c] : 0.0L) + path[j - 1].misPrefix[c]);
+            for (int c = 0; c < N; ++c)
+                Sums<Real>::set(path[j], c, ratioPow<Real>(h, path[j], c) * ((on ? V[c] : Real(0)) + Sums<Real>::prefix(path[j - 1], c)));
         }
         return;
     }
     // Light side, y_i moved to the camera side: y_i reached from y(i+1), joined to y(i−1)
     // (no variant for i = 0: the strategy would have no light vertex to aim at).
     for (int i = 0; i < n; ++i) {
-        path[i].misVariant = i >= 1 && i + 1 < n
-                         ? variantFactor(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
-                         : WideChannels(1.0L);
+        const RC V = i >= 1 && i + 1 < n
+                         ? variantFactor<Real, N>(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
+                         : RC(Real(1));
+        Sums<Real>::setVariant(path[i], V);
         bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
         const bool on = !path[i].delta && !deltaBefore;
-        for (int c = 0; c < st.channels; ++c)
-            path[i].misPrefix[c] = ratioPow(h, path[i], c) *
-                                   ((on ? path[i].misVariant[c] : 0.0L) + (i > 0 ? path[i - 1].misPrefix[c] : 0.0L));
+        for (int c = 0; c < N; ++c)
+            Sums<Real>::set(path[i], c, ratioPow<Real>(h, path[i], c) *
+                                           ((on ? V[c] : Real(0)) + (i > 0 ? Sums<Real>::prefix(path[i - 1], c) : Real(0))));
     }
 }
 
-double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                 bool ownEquiAngular, bool connectionCrossed) {
+template <class Real, int N>
+double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
+                   bool ownEquiAngular, bool connectionCrossed) {
+    using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
     const int k = s + t - 1;  // vertices x0 … xk
     auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
@@ -113,54 +139,54 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
         return connectionCrossed;
     };
     // V_tt on the joined path (tt camera vertices).
-    auto variants = [&](int tt, WideChannels* rho) {
+    auto variants = [&](int tt, RC* rho) {
         if (tt >= 2 && k + 1 - tt >= 1)
-            return variantFactor(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, crossed(tt - 1), st, rho);
-        if (tt == 1 && k >= 2) return variantFactor(scene, at(2), at(1), at(0), false, crossed(2), st, rho);
-        if (rho) *rho = WideChannels(0.0L);
-        return WideChannels(1.0L);
+            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, crossed(tt - 1), st, rho);
+        if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, crossed(2), st, rho);
+        if (rho) *rho = RC(Real(0));
+        return RC(Real(1));
     };
     // The V terms next to the connection, per channel (each may cost an equi-angular density).
-    WideChannels rhoOwn;
-    const WideChannels ownV = variants(t, &rhoOwn);
-    WideChannels camV[2], lightV[2];
+    RC rhoOwn;
+    const RC ownV = variants(t, &rhoOwn);
+    RC camV[2], lightV[2];
     bool camOn[2] = {false, false}, lightOn[2] = {false, false};
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
         bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1);
         int slot = i - (t - 2);
         camOn[slot] = !camera[i].delta && !camera[i - 1].delta;
-        if (camOn[slot]) camV[slot] = own ? camera[i].misVariant : variants(i, nullptr);
+        if (camOn[slot]) camV[slot] = own ? Sums<Real>::variant(camera[i]) : variants(i, nullptr);
     }
     for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
         bool own = i == s - 2 && !(t == 1 && ownEquiAngular);
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
         int slot = i - (s - 2);
         lightOn[slot] = !light[i].delta && !deltaBefore;
-        if (lightOn[slot]) lightV[slot] = own ? light[i].misVariant : variants(t + s - i, nullptr);
+        if (lightOn[slot]) lightV[slot] = own ? Sums<Real>::variant(light[i]) : variants(t + s - i, nullptr);
     }
     // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
     const Channels own = s >= 1 ? camera[t - 1].channelRatio * light[s - 1].channelRatio : camera[t - 1].channelRatio;
 
-    long double total = 0;
-    for (int c = 0; c < st.channels; ++c) {
+    Real total = 0;
+    for (int c = 0; c < N; ++c) {
         // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
         // free-flight one may underflow far from where free flight goes), so all ratios are
         // then relative to the equi-angular variant: its own term is 1 and the free-flight
         // one 1/ρ.
-        long double sum = ownV[c];
+        Real sum = ownV[c];
         if (ownEquiAngular) {
             bool ffOn = st.connect != ConnectMode::EquiAngular;
-            sum = 1.0L + (ffOn && rhoOwn[c] > 0 ? misPower(h, 1.0L / rhoOwn[c]) : 0.0L);
+            sum = Real(1) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0));
         }
         // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
         // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
         // subpath's V treats no camera vertex as the light), or (for i = 1, t = 2) the light
         // side.
-        long double p = t - 3 >= 1 ? camera[t - 3].misPrefix[c] : 0.0L;
+        Real p = t - 3 >= 1 ? Sums<Real>::prefix(camera[t - 3], c) : Real(0);
         for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
             int slot = i - (t - 2);
-            p = ratioPow(h, camera[i], c) * ((camOn[slot] ? camV[slot][c] : 0.0L) + p);
+            p = ratioPow<Real>(h, camera[i], c) * ((camOn[slot] ? camV[slot][c] : Real(0)) + p);
         }
         sum += p;
         // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on
@@ -168,19 +194,32 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
         // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
         // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
         // y(s−1) is an equi-angular camera connection's.
-        long double q = s - 3 >= 0 ? light[s - 3].misPrefix[c] : 0.0L;
+        Real q = s - 3 >= 0 ? Sums<Real>::prefix(light[s - 3], c) : Real(0);
         for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
             int slot = i - (s - 2);
-            q = ratioPow(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : 0.0L) + q);
+            q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : Real(0)) + q);
         }
-        long double cf = ownEquiAngular && t >= 2 && rhoOwn[c] > 0 ? misPower(h, 1.0L / rhoOwn[c]) : 1.0L;
+        Real cf = ownEquiAngular && t >= 2 && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(1);
         sum += cf * q;
         // Over channels: the other channels' densities of every strategy relative to the
         // hero's of this one (docs/mis.md, "coloured media").
-        total += misPower(h, (long double)own[c]) * sum;
+        total += misPower(h, Real(own[c])) * sum;
     }
     // One channel of st.channels was drawn: the estimate is divided by its probability.
-    return total > 0 ? double(st.channels / total) : 0.0;
+    return total > 0 ? double(N / total) : 0.0;
+}
+
+}  // namespace
+
+void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings st) {
+    if (st.channels == 1) misPrefixesIn<double, 1>(scene, path, n, cameraSide, st);
+    else misPrefixesIn<long double, 3>(scene, path, n, cameraSide, st);
+}
+
+double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
+                 bool ownEquiAngular, bool connectionCrossed) {
+    return st.channels == 1 ? misWeightIn<double, 1>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed)
+                            : misWeightIn<long double, 3>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed);
 }
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)

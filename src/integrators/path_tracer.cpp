@@ -267,7 +267,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
 
         // Russian roulette after three events (sample_dimensions.h: kRoulette).
         if (depth >= 3) {
-            float survive = rouletteSurvival(beta, 1.0f, depth);
+            float survive = rouletteSurvival(beta, 1.0f, depth, scene.mediumChannels() > 1);
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }

@@ -65,6 +65,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
     MediumStack media = start.media;
     Spectrum beta = start.beta;
     float pdfDir = start.pdfDir;
+    const bool coloured = scene.mediumChannels() > 1;
     const float rrScale = maxComponent(start.beta) > 0 ? maxComponent(start.beta) : 1.0f;
     const Spectrum channels = heroChannel(start.hero);
     int count = 1, scatters = 0;
@@ -161,7 +162,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         if (count >= 4) {
             const Channels& r = v.channelRatio;
             const double avg = (r[0] + r[1] + r[2]) / 3.0;
-            float survive = rouletteSurvival(avg > 0 && avg != 1.0 ? beta / float(avg) : beta, rrScale, count);
+            float survive = rouletteSurvival(avg > 0 && avg != 1.0 ? beta / float(avg) : beta, rrScale, count, coloured);
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         }

@@ -49,6 +49,8 @@ struct PathVertex {
     bool ghost = false;
     // The MIS partial sums of the subpath up to this vertex (bdpt_mis.h, misPrefixes): kept in
     // the vertex, as SmallVCM keeps its, so a stored subpath carries what its weights need.
+    // Without coloured media one sum (double); with them one per channel, in long double.
+    double misPrefixGrey = 0, misVariantGrey = 1;
     WideChannels misPrefix{0.0L};
     WideChannels misVariant{1.0L};
     // Π over this subpath's vertices up to this one of edgeFwdFreeFlight_c / _h (h: the

@@ -1,6 +1,7 @@
 #include "brume/integrators/bdpt_mis.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/sampling/equiangular.h"
@@ -21,7 +22,8 @@ namespace brume {
 namespace {
 
 // The MIS sums kept in the vertices: without coloured media one sum in double; with them one
-// per channel in long double (ratios between channels are what leaves double's range).
+// per channel, computed in long double (ratios between channels are what leaves double's
+// range) and stored as its logarithm in double, to keep the vertices small.
 template <class Real> struct Sums;
 template <> struct Sums<double> {
     static double prefix(const PathVertex& v, int) { return v.misPrefixGrey; }
@@ -29,11 +31,16 @@ template <> struct Sums<double> {
     static void set(PathVertex& v, int, double prefix) { v.misPrefixGrey = prefix; }
     static void setVariant(PathVertex& v, const ChannelsOf<double>& V) { v.misVariantGrey = V[0]; }
 };
-template <> struct Sums<long double> {
-    static long double prefix(const PathVertex& v, int c) { return v.misPrefix[c]; }
-    static WideChannels variant(const PathVertex& v) { return v.misVariant; }
-    static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = prefix; }
-    static void setVariant(PathVertex& v, const WideChannels& V) { v.misVariant = V; }
+template <> struct Sums<long double> {  // kept as natural logarithms in double (log 0 = −∞)
+    static long double prefix(const PathVertex& v, int c) { return std::exp((long double)v.misPrefix[c]); }
+    static WideChannels variant(const PathVertex& v) {
+        return WideChannels(std::exp((long double)v.misVariant[0]), std::exp((long double)v.misVariant[1]),
+                            std::exp((long double)v.misVariant[2]));
+    }
+    static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = double(std::log(prefix)); }
+    static void setVariant(PathVertex& v, const WideChannels& V) {
+        for (int c = 0; c < 3; ++c) v.misVariant[c] = double(std::log(V[c]));
+    }
 };
 
 double remap0(double f) { return f != 0 ? f : 1.0; }

@@ -132,7 +132,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
-    origin.pFreeFlight = float(tr.fwd.mix(channels));  // what free flight would have had
+    origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
     float pC = pick * ls.pdf * pea;
     float pA = mode == ConnectMode::Mis ? origin.pFreeFlight * pick * ls.pdf : 0.0f;
     float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;

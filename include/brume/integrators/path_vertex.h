@@ -49,10 +49,11 @@ struct PathVertex {
     bool ghost = false;
     // The MIS partial sums of the subpath up to this vertex (bdpt_mis.h, misPrefixes): kept in
     // the vertex, as SmallVCM keeps its, so a stored subpath carries what its weights need.
-    // Without coloured media one sum (double); with them one per channel, in long double.
+    // Without coloured media one sum (double); with them one per channel, as its natural
+    // logarithm (the sums leave double's range).
     double misPrefixGrey = 0, misVariantGrey = 1;
-    WideChannels misPrefix{0.0L};
-    WideChannels misVariant{1.0L};
+    Channels misPrefix{0.0};
+    Channels misVariant{0.0};
     // Π over this subpath's vertices up to this one of edgeFwdFreeFlight_c / _h (h: the
     // sample's hero channel): the subpath's density in channel c relative to the hero's.
     Channels channelRatio;

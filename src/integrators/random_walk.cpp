@@ -1,5 +1,8 @@
 #include "brume/integrators/random_walk.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "brume/integrators/free_flight_walk.h"
 #include "brume/sampling/hg.h"
 
@@ -162,7 +165,11 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         if (count >= 4) {
             const Channels& r = v.channelRatio;
             const double avg = (r[0] + r[1] + r[2]) / 3.0;
-            float survive = rouletteSurvival(avg > 0 && avg != 1.0 ? beta / float(avg) : beta, rrScale, count, coloured);
+            Spectrum worth = beta;
+            if (avg > 0 && avg != 1.0)  // in double, capped to float's range (the ratios reach 1e±300)
+                for (int c = 0; c < 3; ++c)
+                    worth[c] = float(std::min(double(beta[c]) / avg, double(std::numeric_limits<float>::max())));
+            float survive = rouletteSurvival(worth, rrScale, count, coloured);
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         }

@@ -2,6 +2,9 @@
 
 #include "brume/sampling/free_flight.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace brume {
 
 // Homogeneous: every quantity depends on the piece's length ℓ = t1 − t0 only, and the
@@ -60,7 +63,9 @@ MediumSample Medium::sampleDistance(const Ray& ray, float t0, float t1, float uD
     // f_k = T_k·σs_k = p_scatter,k·σs_k/σt_k, or T_k = P_pass,k; the ratio in double.
     for (int k = 0; k < 3; ++k) {
         const double f = ms.scattered ? (st[k] > 0 ? scatter[k] * sigmaS[k] / st[k] : 0.0) : pass[k];
-        ms.weight[k] = ms.pdf > 0 ? float(f / ms.pdf) : 0.0f;
+        // (Capped to float's range: a channel far thinner than the one sampled, over a long
+        // piece, can outweigh it beyond 3e38; converting that to float is undefined.)
+        ms.weight[k] = ms.pdf > 0 ? float(std::min(f / ms.pdf, double(std::numeric_limits<float>::max()))) : 0.0f;
     }
     return ms;
 }

@@ -18,17 +18,11 @@ namespace brume {
 // keeps Σ_c β_c from growing in a non-absorbing medium (β'_c = β_c·f_c/p with
 // Σ_c β_c·f_c = Σ_c β_c·p_c·albedo_c); with one-hot w (a hero channel) the caller weighs the
 // channels at the path level instead.
-namespace {
-
-bool isGrey(Spectrum s) { return s.x == s.y && s.y == s.z; }
-
-}  // namespace
-
 MediumSample Medium::sampleDistance(const Ray& ray, float t0, float t1, float uDistance, float uChannel,
                                     Spectrum channels, bool startIsPoint) const {
     const Spectrum st = sigmaT();
     const float len = t1 - t0;
-    const bool grey = isGrey(st);
+    const bool grey = this->grey();
     MediumSample ms;
     const int c = grey ? 0 : pickChannel(channels, uChannel);
     float t = sampleFreeFlight(st[c], uDistance);
@@ -74,7 +68,7 @@ MediumTransit Medium::transit(const Ray& ray, float t0, float t1, bool startIsPo
     const Spectrum st = sigmaT();
     const float len = t1 - t0;
     MediumTransit tr;
-    if (isGrey(st)) {
+    if (grey()) {
         const double pass = st.x > 0 ? std::exp(-double(st.x) * len) : 1.0, scatter = double(st.x) * pass;
         tr.T = Spectrum(float(pass));
         tr.fwd = Channels(endIsPoint ? scatter : pass);

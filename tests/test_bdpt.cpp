@@ -266,11 +266,18 @@ TEST_CASE("bdpt: per-pass strategy counts flow back through the pass hooks (the 
         sum += a.totalCounts().freeFlight[k] + a.totalCounts().equiAngular[k];
     }
     // Every kind contributes in this scene (an area light over a floor in a fog box), both
-    // variants of the connections that have them.
+    // variants of the connections that have them: light and camera connections; general
+    // connections only when asked for (BdptOptions::generalEquiAngular).
     for (int k = 0; k < 4; ++k) CHECK(a.totalCounts().freeFlight[k] > 0);
-    for (int k = 1; k < 4; ++k) CHECK(a.totalCounts().equiAngular[k] > 0);
+    for (int k = 1; k < 3; ++k) CHECK(a.totalCounts().equiAngular[k] > 0);
     CHECK(a.totalCounts().equiAngular[0] == 0);  // hitting an emitter has no equi-angular variant
+    CHECK(a.totalCounts().equiAngular[3] == 0);
     CHECK(sum > uint64_t(o.width * o.height * o.spp));
+    opt.generalEquiAngular = true;
+    BdptIntegrator g(opt);
+    Film fg(24, 24);
+    render(*scene, g, o, fg);
+    CHECK(g.totalCounts().equiAngular[3] > 0);
 }
 
 TEST_CASE("bdpt matches pt: glass sphere in fog lit by a small bulb (caustic)", "[bdpt]") {

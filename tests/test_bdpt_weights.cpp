@@ -40,6 +40,7 @@ struct Checker : BdptObserver {
     MisHeuristic heuristic = MisHeuristic::Power;
     ConnectMode connect = ConnectMode::Density;
     bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
+    bool general = false;  // general connections have equi-angular variants (BdptOptions::generalEquiAngular)
     mutable std::mutex mutex;
     mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
@@ -222,7 +223,8 @@ struct Checker : BdptObserver {
             if (!valid) continue;
             // Free-flight and equi-angular variants of the strategy.
             WideChannels rho(0.0L);
-            if (connect != ConnectMode::Density && tt >= 2 && ss >= 1) rho = equiAngularRatio(x, tt - 1, true);
+            if (connect != ConnectMode::Density && tt >= 2 && (ss == 1 || (ss >= 2 && general)))
+                rho = equiAngularRatio(x, tt - 1, true);
             if (connect != ConnectMode::Density && tt == 1 && k >= 2) rho = cameraEquiAngularRatio(x);
             for (int c = 0; c < channels; ++c) {
                 long double prod = 1;
@@ -269,7 +271,8 @@ struct Checker : BdptObserver {
 
 namespace {
 
-void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false) {
+void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
+                  bool general = false) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
@@ -277,9 +280,11 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         checker.heuristic = h;
         checker.connect = connect;
         checker.exact = exact;
+        checker.general = general;
         BdptOptions opt{4, h};
         opt.connect = connect;
         opt.exactEquiAngular = exact;
+        opt.generalEquiAngular = general;
         opt.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
@@ -322,6 +327,16 @@ TEST_CASE("bdpt MIS weights in a coloured medium", "[bdpt][mis][chromatic]") {
     checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::Mis);
     checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::EquiAngular);
     checkWeights("furnace_chromatic.gltf", 1);
+}
+
+TEST_CASE("bdpt MIS weights with equi-angular variants of general connections too", "[bdpt][mis]") {
+    for (ConnectMode m : {ConnectMode::Mis, ConnectMode::EquiAngular}) {
+        checkWeights("quad_light_fog.gltf", 4, m, false, true);
+        checkWeights("single_spot.gltf", 4, m, false, true);
+        checkWeights("bdpt_quad_fogbox.gltf", 4, m, false, true);
+        checkWeights("quad_light_fog_chromatic.gltf", 4, m, false, true);
+    }
+    checkWeights("bdpt_glass_sphere.gltf", 4, ConnectMode::Mis, true, true);
 }
 
 TEST_CASE("bdpt MIS weights with exact (bounded, clipped) equi-angular densities", "[bdpt][mis]") {

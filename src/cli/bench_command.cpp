@@ -51,10 +51,11 @@ std::unique_ptr<Integrator> pathTracer(ConnectMode connect) {
     return std::make_unique<PathTracer>(options);
 }
 
-std::unique_ptr<Integrator> bdpt(ConnectMode connect, bool exactEquiAngular = false) {
+std::unique_ptr<Integrator> bdpt(ConnectMode connect, bool exactEquiAngular = false, bool generalEquiAngular = false) {
     BdptOptions options;
     options.connect = connect;
     options.exactEquiAngular = exactEquiAngular;
+    options.generalEquiAngular = generalEquiAngular;
     return std::make_unique<BdptIntegrator>(options);
 }
 
@@ -80,6 +81,8 @@ const BenchMethod kMethods[] = {
      [] { return bdpt(ConnectMode::Mis); }},
     {"bdpt:mis-exact", false, "bdpt:mis with exact equi-angular densities in the weights (a ray each)",
      [] { return bdpt(ConnectMode::Mis, true); }},
+    {"bdpt:mis-general", false, "bdpt:mis with equi-angular variants of general connections (s, t >= 2) too",
+     [] { return bdpt(ConnectMode::Mis, false, true); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";

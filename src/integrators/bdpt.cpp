@@ -42,7 +42,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, width, height, channels, hero};
+    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, options_.generalEquiAngular,
+                         width, height, channels, hero};
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);
@@ -61,6 +62,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             if (s == 0 && t < 2) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
             if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
+            // Past the camera walk's end only an equi-angular variant has a vertex: the light
+            // connection's, and general connections' when they have variants.
+            if (t > nCamera && s != 1 && !options_.generalEquiAngular) continue;
             if ((t == 1 || s > 1) && s > nLight &&
                 !(t == 1 && s == nLight + 1 && s >= 2 && nLight < kMaxSubpathVertices && light[s - 1].ghost))
                 continue;

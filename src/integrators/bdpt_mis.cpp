@@ -78,13 +78,14 @@ ChannelsOf<Real> equiAngularRatio(const Scene& scene, const PathVertex& p, const
 // V for the strategy whose connection vertex v (camera side, reached from prev over an edge
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
 // [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
-// equi-angular variant).
+// equi-angular variant). `general`: the strategy is a general connection (s, t ≥ 2), which
+// has an equi-angular variant only with MisSettings::generalEquiAngular.
 template <class Real, int N>
 ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                           bool anchorEndsPath, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho) {
+                           bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho) {
     using RC = ChannelsOf<Real>;
     RC r(Real(0));
-    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed)
+    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed && (!general || st.generalEquiAngular))
         r = equiAngularRatio<Real, N>(scene, prev, v, anchor, anchorEndsPath, st);
     if (rho) *rho = r;
     RC V(Real(1));
@@ -108,8 +109,10 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
             Sums<Real>::setVariant(path[0], RC(Real(1)));
         }
         for (int j = 1; j < n; ++j) {
-            const RC V = j >= 2 ? variantFactor<Real, N>(scene, path[j - 2], path[j - 1], path[j], false, path[j - 1].edgeCrossed, st, nullptr)
-                         : n >= 3   ? variantFactor<Real, N>(scene, path[2], path[1], path[0], false, path[2].edgeCrossed, st, nullptr)
+            // (Prefixes are read only up to z(t−3), so z(j) never ends the path here: for j ≥ 2
+            // the strategy is a general connection.)
+            const RC V = j >= 2 ? variantFactor<Real, N>(scene, path[j - 2], path[j - 1], path[j], false, true, path[j - 1].edgeCrossed, st, nullptr)
+                         : n >= 3   ? variantFactor<Real, N>(scene, path[2], path[1], path[0], false, false, path[2].edgeCrossed, st, nullptr)
                                     : RC(Real(1));
             Sums<Real>::setVariant(path[j], V);
             const bool on = !path[j].delta && !path[j - 1].delta;
@@ -122,7 +125,7 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
     // (no variant for i = 0: the strategy would have no light vertex to aim at).
     for (int i = 0; i < n; ++i) {
         const RC V = i >= 1 && i + 1 < n
-                         ? variantFactor<Real, N>(scene, path[i + 1], path[i], path[i - 1], i == 1, path[i + 1].edgeCrossed, st, nullptr)
+                         ? variantFactor<Real, N>(scene, path[i + 1], path[i], path[i - 1], i == 1, i >= 2, path[i + 1].edgeCrossed, st, nullptr)
                          : RC(Real(1));
         Sums<Real>::setVariant(path[i], V);
         bool deltaBefore = i > 0 ? path[i - 1].delta : path[0].deltaLight;
@@ -148,8 +151,8 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // V_tt on the joined path (tt camera vertices).
     auto variants = [&](int tt, RC* rho) {
         if (tt >= 2 && k + 1 - tt >= 1)
-            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, crossed(tt - 1), st, rho);
-        if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, crossed(2), st, rho);
+            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, tt < k, crossed(tt - 1), st, rho);
+        if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, false, crossed(2), st, rho);
         if (rho) *rho = RC(Real(0));
         return RC(Real(1));
     };

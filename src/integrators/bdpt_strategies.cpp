@@ -260,7 +260,8 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
     const PathVertex& y = c.light[s - 1];
     if (!scatters(y)) return Spectrum(0.0f);
     const PathVertex& zPrev = c.camera[t - 2];
-    const bool eaOn = c.mis.connect != ConnectMode::Density && c.camera[t - 1].edgeMedium && !zPrev.delta;
+    const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.generalEquiAngular && c.camera[t - 1].edgeMedium &&
+                      !zPrev.delta;
     const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
     for (int variant = 0; variant < 2; ++variant) {

@@ -39,6 +39,11 @@ struct BdptOptions {
     // Equi-angular densities in the weights over the real, clipped segment (a ray cast each)
     // instead of the unbounded-ray stand-in; for measuring the difference (docs/results.md).
     bool exactEquiAngular = false;
+    // Equi-angular variants of the general connections (s, t ≥ 2) too, not only of light
+    // (s = 1) and camera (t = 1) connections. Their anchors are light-subpath vertices,
+    // usually a mean free path from the ray, where the equi-angular density is nearly flat:
+    // per unit time they lose (docs/results.md), so they are off unless asked for.
+    bool generalEquiAngular = false;
     const BdptObserver* observer = nullptr;
 };
 

@@ -108,7 +108,7 @@ struct Checker : BdptObserver {
         Vec3 e = v.p - p.p;
         float dist = length(e);
         Vec3 w = e / dist;
-        if (!exact) return equiAngularPdf(makeEquiAngular(p.p, w, anchor, 0.0f, kInfinity), dist);
+        if (!exact) return equiAngularStandInPdf(p.p, w, anchor, dist);
         // The walk's ray from p's own position, to where its first piece ends.
         Vec3 o = p.p;
         PathStats stats;

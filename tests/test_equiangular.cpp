@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "brume/integrators/equiangular_segment.h"
+#include "brume/math/fast_atan.h"
 #include "brume/math/frame.h"
 #include "brume/sampling/equiangular.h"
 #include "brume/sampling/sampler.h"
@@ -150,4 +151,32 @@ TEST_CASE("spot-cone clipping keeps every point inside the cone", "[sampling][eq
     }
     CHECK(kept > 100);
     CHECK(clippedAway > 100);
+}
+
+// The bidirectional weights' stand-in density (float, polynomial atan) is the unbounded-ray
+// equi-angular density: within 1e-5 of the double computation over offsets from far behind to
+// far ahead of the ray origin, and over distances from the closest approach to 1e4·D, plus
+// what float positions allow: D comes from c − o less its part along the ray, known to
+// ~2^-23·|c − o|.
+TEST_CASE("equi-angular stand-in density matches the double computation", "[equiangular]") {
+    for (double x : {-1e4, -30.0, -1.5, -1.0, -0.3, 0.0, 1e-3, 0.7, 1.0, 2.0, 1e3})
+        CHECK(std::abs(double(halfPiPlusAtan(float(x))) - (M_PI / 2 + std::atan(x))) <=
+              1e-6 * (M_PI / 2 + std::atan(x)) + 1e-7);
+    const Vec3 o(0.3f, -0.2f, 1.0f), d = normalize(Vec3(0.2f, 1.0f, -0.4f));
+    double worst = 0;
+    for (float D : {0.01f, 0.5f, 3.0f})
+        for (float delta : {-40.0f, -2.0f, 0.0f, 0.4f, 5.0f, 200.0f}) {
+            Vec3 side = normalize(cross(d, Vec3(1, 0, 0)));
+            Vec3 c = o + d * delta + side * D;
+            EquiAngular ea = makeEquiAngular(o, d, c, 0.0f, kInfinity);
+            for (float t : {0.0f, 0.01f, std::max(0.0f, delta), delta + D, 3 * D + 1, 1e4f * D}) {
+                if (t < 0) continue;
+                double ref = equiAngularPdf(ea, t), got = equiAngularStandInPdf(o, d, c, t);
+                REQUIRE(got > 0);
+                double tolerance = 1e-5 + 8 * 0x1p-23 * length(c - o) / D;
+                worst = std::max(worst, std::abs(got - ref) / ref / tolerance);
+            }
+        }
+    INFO("worst relative difference over its tolerance " << worst);
+    CHECK(worst < 1);
 }

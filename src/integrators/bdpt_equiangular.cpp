@@ -30,7 +30,7 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
     float dist = length(e);
     if (!(dist > 0)) return 0.0;
     Vec3 d = e / dist;
-    if (!st.exactEquiAngular) return equiAngularPdf(makeEquiAngular(prev.p, d, aim.anchor, 0.0f, kInfinity), dist);
+    if (!st.exactEquiAngular) return equiAngularStandInPdf(prev.p, d, aim.anchor, dist);
     // The walk's ray from prev, to the end of its first piece (where the sampler's segment ends).
     bool onSurface = prev.kind == VertexKind::Surface || (prev.kind == VertexKind::Light && dot(prev.ng, prev.ng) > 0);
     PathStats uncounted;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "brume/math/fast_atan.h"
+
 namespace brume {
 
 EquiAngular makeEquiAngular(Vec3 o, Vec3 d, Vec3 c, float a, float b) {
@@ -37,6 +39,17 @@ float equiAngularPdf(const EquiAngular& ea, float t) {
     if (ea.uniform) return float(1.0 / (ea.b - ea.a));
     double x = double(t) - ea.delta;
     return float(ea.D / ((ea.thetaB - ea.thetaA) * (ea.D * ea.D + x * x)));
+}
+
+float equiAngularStandInPdf(Vec3 o, Vec3 d, Vec3 c, float t) {
+    if (!(t >= 0)) return 0.0f;
+    const Vec3 oc = c - o;
+    const float delta = dot(oc, d);
+    const Vec3 perp = oc - d * delta;
+    // The same floor on D as makeEquiAngular.
+    const float D = std::max(std::sqrt(dot(perp, perp)), 1e-6f * std::max(1.0f, std::sqrt(dot(oc, oc))));
+    const float x = t - delta;
+    return D / (halfPiPlusAtan(delta / D) * (D * D + x * x));
 }
 
 }  // namespace brume

@@ -44,6 +44,23 @@ Connection connectPoints(const Scene& scene, const WalkSegment& seg, const Mediu
                          bool bIsMedium, PathStats& stats) {
     const Ray ray{seg.o, seg.d, seg.end};
     Connection c;
+    if (!scene.hasInvisibleBoundaries() && seg.to.mesh < 0) {
+        // One medium all the way and no triangle to arrive on: an any-hit query decides, and
+        // the one piece [0, end] gives the same numbers the walk below would.
+        if (seg.query.tmin < seg.query.tmax) {
+            ++stats.rays;
+            if (scene.occluded(seg.query, seg.to.sphereLight)) return Connection{};
+        }
+        if (const Medium* m = scene.medium(media.current())) {
+            MediumTransit tr = m->transit(ray, 0.0f, seg.end, aIsMedium, bIsMedium);
+            c.T = tr.T;
+            c.freeFlightToB = tr.fwd;
+            c.freeFlightToA = tr.rev;
+        } else {
+            c.T = Spectrum(1.0f);
+        }
+        return c;
+    }
     Spectrum T(1.0f);
     Channels toB, toA;
     BoundaryWalk walk(scene, seg, media, stats);

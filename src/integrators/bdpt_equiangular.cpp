@@ -63,7 +63,8 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     float pea = equiAngularPdf(ea, t);
     if (!(pea > 0) || !std::isfinite(pea)) return false;
     const Medium& m = *edge.edgeMedium;
-    PathVertex v;
+    PathVertex& v = *out;  // (out may be where the caller keeps edge's slot, not edge itself)
+    v = PathVertex{};
     v.kind = VertexKind::Medium;
     v.medium = &m;
     v.media = edge.edgeMedia;
@@ -90,7 +91,6 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     // unless exact): direction density × 1/d² × p_ea.
     v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height), dist) *
                equiAngularDensity(scene, prev, v, aim, mis);
-    *out = v;
     return v.pdfFwd[0] > 0;  // one density for every channel: the equi-angular one
 }
 

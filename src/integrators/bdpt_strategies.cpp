@@ -1,5 +1,8 @@
 #include "brume/integrators/bdpt_strategies.h"
 
+#include <cstring>
+#include <type_traits>
+
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/integrators/bdpt_subpaths.h"
 #include "brume/integrators/light_numbers.h"
@@ -14,21 +17,28 @@ namespace brume {
 
 namespace {
 
-// Puts a vertex in place of another for one variant and the original back when it ends.
+// Keeps a subpath vertex while a variant's own vertex stands in its slot, and puts it back
+// when the variant ends. Its storage is left uninitialised until used: most variants
+// (free flight) move nothing, and a vertex is 400-odd bytes.
 class VertexSwap {
 public:
+    VertexSwap() = default;
+    VertexSwap(const VertexSwap&) = delete;
+    VertexSwap& operator=(const VertexSwap&) = delete;
     ~VertexSwap() {
-        if (target_) *target_ = saved_;
+        if (target_) std::memcpy(static_cast<void*>(target_), storage_, sizeof(PathVertex));
     }
-    void set(PathVertex* target, const PathVertex& v) {
+    // Saves *target, which the caller then overwrites; returns the saved copy.
+    const PathVertex& save(PathVertex* target) {
         target_ = target;
-        saved_ = *target;
-        *target = v;
+        std::memcpy(storage_, static_cast<const void*>(target), sizeof(PathVertex));
+        return *reinterpret_cast<const PathVertex*>(storage_);
     }
 
 private:
+    static_assert(std::is_trivially_copyable<PathVertex>::value, "a vertex is moved by memcpy");
     PathVertex* target_ = nullptr;
-    PathVertex saved_;
+    alignas(PathVertex) unsigned char storage_[sizeof(PathVertex)];
 };
 
 // A SurfaceHit describing a surface or light vertex, for emission and textures.
@@ -127,10 +137,8 @@ bool variantWanted(const StrategyContext& c, int variant, bool on) {
 // long as `swap` lives. False if no vertex can be placed.
 bool swapInEquiAngular(const StrategyContext& c, PathVertex* path, int i, const EquiAngularAim& aim, float u,
                        VertexSwap& swap) {
-    PathVertex v;
-    if (!equiAngularVertex(c.scene, path[i], path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &v)) return false;
-    swap.set(&path[i], v);
-    return true;
+    const PathVertex& edge = swap.save(&path[i]);
+    return equiAngularVertex(c.scene, edge, path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &path[i]);
 }
 
 // A nonzero weighted estimate of a strategy, counted for the pass statistics.

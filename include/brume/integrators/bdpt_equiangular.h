@@ -35,7 +35,8 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
 // prev (whatever free flight made of that ray: a medium point, a surface, or nothing), within
 // the ray's first medium, sampled towards `aim` with the number u. `edge` is the vertex whose
 // edge record (PathVertex::edge*) holds that ray; prevFrom is the direction from prev back
-// along its own subpath. False if no point can be placed.
+// along its own subpath. False if no point can be placed (*out may then have been written).
+// out must not be edge or prev.
 bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
                        const EquiAngularAim& aim, MisSettings settings, float u, PathVertex* out);
 

@@ -41,6 +41,7 @@ struct Checker : BdptObserver {
     ConnectMode connect = ConnectMode::Density;
     bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
     bool general = false;  // general connections have equi-angular variants (BdptOptions::generalEquiAngular)
+    int maxDepth = 4;      // BdptOptions::maxDepth
     mutable std::mutex mutex;
     mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
@@ -66,8 +67,9 @@ struct Checker : BdptObserver {
         return 0;
     }
 
-    // Geometry × free flight for a walk from x[j] stopping at x[i].
-    Channels stepFactor(const std::vector<PathVertex>& x, int j, int i) const {
+    // Geometry × free flight for a walk from x[j] stopping at x[i] (passing: geometry alone,
+    // a walk that samples no collision).
+    Channels stepFactor(const std::vector<PathVertex>& x, int j, int i, bool passing = false) const {
         const PathVertex& a = x[j];
         const PathVertex& b = x[i];
         Vec3 d = b.p - a.p;
@@ -85,7 +87,7 @@ struct Checker : BdptObserver {
         if (b.mesh >= 0) target.mesh = b.mesh, target.triangle = b.triangle;
         WalkSegment seg = leaving(a.p, isAreaLike(a) ? a.ng : Vec3(0.0f), w, float(dist), isAreaLike(b), target);
         Connection c = connectPoints(*scene, seg, media, a.isMedium(), b.isMedium(), stats);
-        return g * c.freeFlightToB;
+        return passing ? Channels(g) : g * c.freeFlightToB;
     }
 
     // Whether the segment p → v passes an invisible medium boundary (no equi-angular variant).
@@ -189,6 +191,9 @@ struct Checker : BdptObserver {
         if (directional) x[k].p = x[k - 1].p - L.direction * 1000.0f;
         std::vector<Channels> fwd(k + 1, Channels(1.0)), rev(k + 1, Channels(1.0));
         for (int i = 1; i <= k; ++i) fwd[i] = dirPdf(x, i - 1, i - 2, i) * stepFactor(x, i - 1, i);
+        // The camera walk passes through media to its vertex past the last scattering event
+        // --max-depth allows (only an emitter hit, s = 0, uses it).
+        if (k == maxDepth + 1) fwd[k] = dirPdf(x, k - 1, k - 2, k) * stepFactor(x, k - 1, k, true);
         float pos, dir;
         {
             PathVertex end = x[k];
@@ -281,7 +286,7 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         checker.connect = connect;
         checker.exact = exact;
         checker.general = general;
-        BdptOptions opt{4, h};
+        BdptOptions opt{checker.maxDepth, h};
         opt.connect = connect;
         opt.exactEquiAngular = exact;
         opt.generalEquiAngular = general;

@@ -32,18 +32,23 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     thread_local Subpaths paths;
     PathVertex* camera = paths.camera.data();
     PathVertex* light = paths.light.data();
-    // A camera subpath may end on an emitter one vertex past the last scattering event.
-    const int maxScatter = options_.maxDepth < 0 ? kMaxSubpathVertices : options_.maxDepth;
+    // With --max-depth m, the camera subpath's vertex z(m+1), past the last scattering event,
+    // serves only to hit an emitter (s = 0): its ray passes through media (a collision there
+    // could serve no strategy), and it is not traced at all when no emitter can be hit.
+    const bool limited = options_.maxDepth >= 0;
+    const int maxScatter = limited ? options_.maxDepth : kMaxSubpathVertices;
+    const int cameraVertices = limited ? maxScatter + (scene.hasHittableLights() ? 1 : 0) : maxScatter + 1;
+    const int passFrom = limited ? maxScatter + 1 : 1 << 30;
     // In coloured media both walks sample distances with one hero channel, drawn uniformly;
     // the weights are taken over the channels as well as the strategies (bdpt_mis.h).
     const int channels = scene.mediumChannels();
     const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
-    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, maxScatter + 1, hero, sampler, camera, stats);
+    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, hero, sampler, camera, stats);
     const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
     const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, options_.generalEquiAngular,
-                         width, height, channels, hero};
+                         width, height, channels, hero, passFrom};
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);

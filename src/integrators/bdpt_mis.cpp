@@ -136,6 +136,34 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
     }
 }
 
+// The light subpath's prefix P(j) (misPrefixes) for a path whose light vertex y0 is the
+// camera walk's vertex st.passFrom, which that walk reaches by passing through media: y0's
+// reverse density then has free-flight factor 1, not the one the light walk stored. Summed
+// afresh (O(j)); only the longest paths a --max-depth allows need it.
+template <class Real>
+Real passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int c, MisSettings st) {
+    const MisHeuristic h = st.heuristic;
+    Real q = 0;
+    for (int i = 0; i <= j; ++i) {
+        Real r = ratioPow<Real>(h, light[i], c);
+        if (i == 0 && !light[0].deltaLight) {
+            // y0 made from y1, which the camera walk reached from y2 (j ≥ 0 reads y0 only for
+            // s ≥ 3, so y2 exists).
+            Vec3 w = light[1].p - light[0].p;
+            const float d = length(w);
+            w = d > 0 ? w / d : Vec3(0.0f);
+            const double rev = solidAngleToArea(light[0], w,
+                                                vertexDirectionPdf(scene, light[1], normalize(light[2].p - light[1].p), -w,
+                                                                   st.width, st.height), d);
+            r = misPower(h, Real(remap0(rev)) / Real(remap0(light[0].pdfFwd[c])));
+        }
+        const bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
+        const bool on = !light[i].delta && !deltaBefore;
+        q = r * ((on ? Sums<Real>::variant(light[i])[c] : Real(0)) + q);
+    }
+    return q;
+}
+
 template <class Real, int N>
 double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
                    bool ownEquiAngular, bool connectionCrossed) {
@@ -204,7 +232,9 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
         // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
         // y(s−1) is an equi-angular camera connection's.
-        Real q = s - 3 >= 0 ? Sums<Real>::prefix(light[s - 3], c) : Real(0);
+        Real q = s - 3 >= 0 ? (k >= st.passFrom ? passedLightPrefix<Real>(scene, light, s - 3, c, st)
+                                                : Sums<Real>::prefix(light[s - 3], c))
+                            : Real(0);
         for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
             int slot = i - (s - 2);
             q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : Real(0)) + q);
@@ -273,12 +303,16 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
         PathVertex& zm = camera[t - 2];
         zm.pdfRev = solidAngleToArea(zm, z.wo, vertexDirectionPdf(scene, z, w, z.wo, W, H), z.edgeDist) * z.edgeRevFreeFlight;
     }
+    // y(s−1) and y(s−2) as the camera walk would make them: its vertices t and t + 1, reached
+    // by passing through media from st.passFrom on.
     y.pdfRev = y.kind == VertexKind::Light && y.deltaLight
                    ? Channels(0.0)
-                   : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) * join.freeFlightToLight;
+                   : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) *
+                         (t >= st.passFrom ? Channels(1.0) : join.freeFlightToLight);
     if (s >= 2) {
         PathVertex& ym = light[s - 2];
-        ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H), y.edgeDist) * y.edgeRevFreeFlight;
+        ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H), y.edgeDist) *
+                    (t + 1 >= st.passFrom ? Channels(1.0) : y.edgeRevFreeFlight);
     }
 }
 

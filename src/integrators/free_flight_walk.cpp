@@ -3,14 +3,20 @@
 namespace brume {
 
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats) {
+                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats, bool passThrough) {
     Flight f;
     const Ray ray{seg.o, seg.d, seg.end};
     BoundaryWalk walk(scene, seg, media, stats);
     BoundaryPiece piece;
     while (walk.next(&piece)) {
         if (piece.index == 0) f.firstEnd = piece.t1;
-        if (piece.medium) {
+        if (piece.medium && passThrough) {
+            // Passed for certain: weight T, forward density 1; the reverse walk's as usual.
+            MediumTransit tr = piece.medium->transit(ray, piece.t0, piece.t1, startIsPoint && piece.index == 0, false);
+            f.weight *= tr.T;
+            f.rev *= tr.rev;
+            if (isBlack(tr.T)) break;  // an unbounded ray through a medium
+        } else if (piece.medium) {
             const uint32_t repeat = uint32_t(piece.index);
             const Medium& m = *piece.medium;
             const float uChannel = m.grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);

@@ -85,7 +85,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
-        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats);
+        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats, count >= start.passFrom);
         v.edgeEnd = f.firstEnd;
         if (f.end == Flight::End::Escape) return count;
         beta *= f.weight;

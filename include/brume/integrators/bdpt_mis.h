@@ -24,6 +24,9 @@ struct MisSettings {
     // and the sample's hero channel, which drove every free-flight distance of both walks.
     int channels = 1;
     int hero = 0;
+    // The camera walk passes through media from this vertex index on (WalkStart::passFrom:
+    // --max-depth m gives m + 1): a camera walk makes a vertex there with free-flight density 1.
+    int passFrom = 1 << 30;
 };
 
 // Stores in each vertex of a subpath (n vertices) the sums misWeight needs of it, from the

@@ -24,8 +24,10 @@ struct Flight {
 // Along seg (a ray: leaving(), end +∞). startIsPoint: it starts at a medium vertex (the
 // reverse walk would scatter there). channels: the probabilities with which each colour
 // channel drives the distance (Medium::sampleDistance). Numbers: dims + kDistance and
-// dims + kChannel, with the piece index as repeat.
+// dims + kChannel, with the piece index as repeat. passThrough: no collision is sampled; every
+// medium piece is passed with weight T and forward density 1 (no numbers drawn).
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats);
+                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats,
+                    bool passThrough = false);
 
 }  // namespace brume

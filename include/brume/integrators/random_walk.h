@@ -16,6 +16,10 @@ struct WalkStart {
     int width = 0, height = 0;  // the image, for the camera's direction density
     dim::Side side = dim::Side::Camera;  // whose dimensions the walk reads (sample_dimensions.h)
     int hero = 0;        // the colour channel that drives free flight (bdpt_mis.h)
+    // From this vertex index on, rays pass through media without sampling a collision (weight
+    // T, free-flight density 1): the camera walk's vertex past the last scattering event a
+    // --max-depth allows, which only an emitter hit can use (bdpt.cpp).
+    int passFrom = 1 << 30;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

@@ -59,6 +59,8 @@ public:
     // coloured (its extinction differs between channels), else 1 (the MIS over channels of
     // the bidirectional tracer then has one term, and costs nothing).
     int mediumChannels() const { return mediumChannels_; }
+    // True if a path can hit an emitter: some light is an emissive triangle or a sphere.
+    bool hasHittableLights() const { return hasHittableLights_; }
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
 
@@ -92,7 +94,8 @@ private:
     bool hasBoundedMedia_ = false;
     std::vector<MediumStack> lightMedia_;  // per light: front side; then per light: back side
     bool hasInvisibleBoundaries_ = false;
-    int mediumChannels_ = 1;  // per mesh, -1 if not emissive
+    int mediumChannels_ = 1;
+    bool hasHittableLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

@@ -194,6 +194,15 @@ struct Checker : BdptObserver {
         // The camera walk passes through media to its vertex past the last scattering event
         // --max-depth allows (only an emitter hit, s = 0, uses it).
         if (k == maxDepth + 1) fwd[k] = dirPdf(x, k - 1, k - 2, k) * stepFactor(x, k - 1, k, true);
+        // So does it to its last scattering event x(m), m = maxDepth, after a vertex that is not
+        // specular, where equi-angular light connections cover the medium (no directional
+        // light, no invisible boundary): it reaches a surface there with free-flight density 1
+        // and never makes a medium vertex there.
+        const int m = maxDepth;
+        const bool lastPasses = connect != ConnectMode::Density && m >= 1 && m <= k && !scene->hasInvisibleBoundaries() &&
+                                !scene->hasDirectionalLights() && !(x[m - 1].isSurface() && x[m - 1].delta);
+        if (lastPasses && !x[m].isMedium()) fwd[m] = dirPdf(x, m - 1, m - 2, m) * stepFactor(x, m - 1, m, true);
+        const bool lastMediumUnmade = lastPasses && x[m].isMedium();
         float pos, dir;
         {
             PathVertex end = x[k];
@@ -236,6 +245,7 @@ struct Checker : BdptObserver {
                 for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i][c]);
                 for (int i = tt; i <= k; ++i) prod *= remap(rev[i][c]);
                 bool eaOn = rho[c] > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
+                if (lastMediumUnmade && tt - 1 >= m) ffOn = false;  // the camera walk cannot make x(m)
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
                 sum += termFf + termEa;
                 if (tt == t && c == hero) self = equiAngular ? termEa : termFf;

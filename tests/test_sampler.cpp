@@ -87,7 +87,7 @@ TEST_CASE("bdpt: the light subpath does not depend on the camera subpath", "[sam
         Sampler sampler(11, uint64_t(pixel), 0);
         PathStats stats;
         int nAlone = traceLightSubpath(*scene, 1000, 0, sampler, alone.data(), stats);
-        int nCamera = traceCameraSubpath(*scene, float(pixel % 8) + 0.5f, float(pixel / 8) + 0.5f, 8, 8, 1000, 1 << 30, 0, sampler,
+        int nCamera = traceCameraSubpath(*scene, float(pixel % 8) + 0.5f, float(pixel / 8) + 0.5f, 8, 8, 1000, 1 << 30, 1 << 30, 0, sampler,
                                          camera.data(), stats);
         int nAfter = traceLightSubpath(*scene, 1000, 0, sampler, after.data(), stats);
         REQUIRE(nAfter == nAlone);

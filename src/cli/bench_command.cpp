@@ -45,14 +45,17 @@ namespace fs = std::filesystem;
 // ---------------------------------------------------------------------------------------
 // The methods. Adding one is adding a line to kMethods.
 
-std::unique_ptr<Integrator> pathTracer(ConnectMode connect) {
+std::unique_ptr<Integrator> pathTracer(int maxDepth, ConnectMode connect) {
     PathTracerOptions options;
+    options.maxDepth = maxDepth;
     options.connect = connect;
     return std::make_unique<PathTracer>(options);
 }
 
-std::unique_ptr<Integrator> bdpt(ConnectMode connect, bool exactEquiAngular = false, bool generalEquiAngular = false) {
+std::unique_ptr<Integrator> bdpt(int maxDepth, ConnectMode connect, bool exactEquiAngular = false,
+                                 bool generalEquiAngular = false) {
     BdptOptions options;
+    options.maxDepth = maxDepth;
     options.connect = connect;
     options.exactEquiAngular = exactEquiAngular;
     options.generalEquiAngular = generalEquiAngular;
@@ -63,26 +66,26 @@ struct BenchMethod {
     const char* name;
     bool byDefault;  // part of the default --methods list
     const char* what;
-    std::unique_ptr<Integrator> (*make)();
+    std::unique_ptr<Integrator> (*make)(int maxDepth);
 };
 
 const BenchMethod kMethods[] = {
     {"pt:density", true, "path tracer, light connections from the free-flight point",
-     [] { return pathTracer(ConnectMode::Density); }},
+     [](int d) { return pathTracer(d, ConnectMode::Density); }},
     {"pt:equiangular", true, "path tracer, equi-angular light connections",
-     [] { return pathTracer(ConnectMode::EquiAngular); }},
+     [](int d) { return pathTracer(d, ConnectMode::EquiAngular); }},
     {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling",
-     [] { return pathTracer(ConnectMode::Mis); }},
+     [](int d) { return pathTracer(d, ConnectMode::Mis); }},
     {"bdpt:density", true, "bidirectional path tracer, free-flight vertices only (plain BDPT)",
-     [] { return bdpt(ConnectMode::Density); }},
+     [](int d) { return bdpt(d, ConnectMode::Density); }},
     {"bdpt:equiangular", true, "bidirectional path tracer, equi-angular light connections",
-     [] { return bdpt(ConnectMode::EquiAngular); }},
+     [](int d) { return bdpt(d, ConnectMode::EquiAngular); }},
     {"bdpt:mis", true, "bidirectional path tracer, both connection variants MIS-weighted",
-     [] { return bdpt(ConnectMode::Mis); }},
+     [](int d) { return bdpt(d, ConnectMode::Mis); }},
     {"bdpt:mis-exact", false, "bdpt:mis with exact equi-angular densities in the weights (a ray each)",
-     [] { return bdpt(ConnectMode::Mis, true); }},
+     [](int d) { return bdpt(d, ConnectMode::Mis, true); }},
     {"bdpt:mis-general", false, "bdpt:mis with equi-angular variants of general connections (s, t >= 2) too",
-     [] { return bdpt(ConnectMode::Mis, false, true); }},
+     [](int d) { return bdpt(d, ConnectMode::Mis, false, true); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";
@@ -122,6 +125,7 @@ struct BenchArgs {
     bool seedGiven = false;
     int referenceSpp = 1024;
     bool referenceSppGiven = false;
+    int maxDepth = -1;
     const BenchMethod* referenceMethod = nullptr;  // null: pt:mis
     bool chart = true;
     int threads = 0;
@@ -223,6 +227,9 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
         a.seed = parseUnsigned64("--seed", v);
         a.seedGiven = true;
     });
+    addOption(app, "--max-depth", "N", "most scattering events on a path, for every method and the reference "
+              "(default: unlimited; 1 = single scattering)",
+              [&](const std::string& v) { a.maxDepth = int(parseInteger("--max-depth", v, -1, 1000000)); });
     addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
               [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
     if (!parseCommand(app, argv)) return false;
@@ -315,7 +322,7 @@ std::string jsonString(const std::string& s) {
 // (buffers in separate files are not covered; the bundled scenes embed theirs).
 using Record = std::vector<std::pair<std::string, std::string>>;
 
-Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method) {
+Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method, int maxDepth) {
     std::error_code ec;
     fs::path absolute = fs::weakly_canonical(fs::absolute(scenePath), ec);
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
@@ -327,6 +334,7 @@ Record referenceRecord(const std::string& scenePath, Resolution res, int spp, co
         {"spp", std::to_string(spp)},
         {"seed", std::to_string(kReferenceSeed)},
         {"method", jsonString(method)},
+        {"max_depth", std::to_string(maxDepth)},
         {"brume_build_fnv1a64", jsonString(buildIdentity())},
     };
 }
@@ -516,7 +524,7 @@ int runBench(const std::vector<std::string>& argv) {
     if (!a.reference.empty()) {
         std::printf("reference: %s (given)\n", a.reference.c_str());
     } else {
-        Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name);
+        Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name, a.maxDepth);
         bool haveRecord = false;
         std::string cachedText = readTextFile(recordPath, &haveRecord);
         std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";
@@ -537,7 +545,7 @@ int runBench(const std::vector<std::string>& argv) {
             std::fflush(stdout);
             std::error_code ec;
             fs::remove(recordPath, ec);  // never a record beside an image it does not describe
-            std::unique_ptr<Integrator> integrator = a.referenceMethod->make();
+            std::unique_ptr<Integrator> integrator = a.referenceMethod->make(a.maxDepth);
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;
@@ -571,7 +579,7 @@ int runBench(const std::vector<std::string>& argv) {
     std::vector<std::string> imagesWritten;
     for (double budget : a.budgets) {
         for (const BenchMethod* method : a.methods) {
-            std::unique_ptr<Integrator> integrator = method->make();
+            std::unique_ptr<Integrator> integrator = method->make(a.maxDepth);
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;

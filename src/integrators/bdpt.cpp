@@ -39,16 +39,26 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int maxScatter = limited ? options_.maxDepth : kMaxSubpathVertices;
     const int cameraVertices = limited ? maxScatter + (scene.hasHittableLights() ? 1 : 0) : maxScatter + 1;
     const int passFrom = limited ? maxScatter + 1 : 1 << 30;
+    // At the last scattering event z(m) itself, a medium vertex serves only the light
+    // connection (s = 1), whose equi-angular variant covers the medium wherever the light has
+    // a position: there the walk passes through too and reaches the surface behind with
+    // weight T, and the in-scattering comes from the connections alone. (Not past invisible
+    // boundaries, where a medium vertex has no equi-angular variant.)
+    const int passFirstAt = limited && maxScatter >= 1 && options_.connect != ConnectMode::Density &&
+                                    !scene.hasInvisibleBoundaries() && !scene.hasDirectionalLights()
+                                ? maxScatter
+                                : 1 << 30;
     // In coloured media both walks sample distances with one hero channel, drawn uniformly;
     // the weights are taken over the channels as well as the strategies (bdpt_mis.h).
     const int channels = scene.mediumChannels();
     const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
-    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, hero, sampler, camera, stats);
+    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
+                                          camera, stats);
     const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
     const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, options_.generalEquiAngular,
-                         width, height, channels, hero, passFrom};
+                         width, height, channels, hero, passFrom, passFirstAt};
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);

@@ -79,10 +79,12 @@ ChannelsOf<Real> equiAngularRatio(const Scene& scene, const PathVertex& p, const
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
 // [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
 // equi-angular variant). `general`: the strategy is a general connection (s, t ≥ 2), which
-// has an equi-angular variant only with MisSettings::generalEquiAngular.
+// has an equi-angular variant only with MisSettings::generalEquiAngular. freeFlightOff: v is
+// the camera walk's vertex MisSettings::passFirstAt, which it never makes in a medium.
 template <class Real, int N>
 ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                           bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho) {
+                           bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho,
+                           bool freeFlightOff = false) {
     using RC = ChannelsOf<Real>;
     RC r(Real(0));
     if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed && (!general || st.generalEquiAngular))
@@ -91,7 +93,7 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
     RC V(Real(1));
     for (int c = 0; c < N; ++c) {
         bool eaOn = r[c] > 0;
-        bool ffOn = !(st.connect == ConnectMode::EquiAngular && eaOn);
+        bool ffOn = !((st.connect == ConnectMode::EquiAngular || freeFlightOff) && eaOn);
         V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
     return V;
@@ -136,30 +138,38 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
     }
 }
 
-// The light subpath's prefix P(j) (misPrefixes) for a path whose light vertex y0 is the
-// camera walk's vertex st.passFrom, which that walk reaches by passing through media: y0's
-// reverse density then has free-flight factor 1, not the one the light walk stored. Summed
-// afresh (O(j)); only the longest paths a --max-depth allows need it.
-template <class Real>
-Real passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int c, MisSettings st) {
+// The light subpath's prefix P(j) (misPrefixes) for a path of k + 1 vertices some of whose
+// light vertices the camera walk would reach by passing through media (MisSettings::passFrom,
+// passFirstAt): their reverse densities then lose their free-flight factor (a medium vertex
+// at passFirstAt keeps it, and its strategy loses its free-flight variant instead), and a
+// medium vertex at passFirstAt rules out the emitter hit beyond it (s = 0). Summed afresh,
+// O(j); only the longest paths a --max-depth allows need it.
+template <class Real, int N>
+Real passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k, int c, bool emitterHitOff,
+                       MisSettings st) {
     const MisHeuristic h = st.heuristic;
     Real q = 0;
     for (int i = 0; i <= j; ++i) {
+        const int ci = k - i;  // y_i as the camera walk's vertex
         Real r = ratioPow<Real>(h, light[i], c);
-        if (i == 0 && !light[0].deltaLight) {
-            // y0 made from y1, which the camera walk reached from y2 (j ≥ 0 reads y0 only for
-            // s ≥ 3, so y2 exists).
-            Vec3 w = light[1].p - light[0].p;
+        const bool passes = cameraWalkPasses(st, ci, light[i + 1].delta) && !(light[i].isMedium() && ci < st.passFrom);
+        if (passes && !(i == 0 && light[0].deltaLight)) {
+            // y_i made from y(i+1), which the camera walk reached from y(i+2) (i ≤ j ≤ s − 3).
+            Vec3 w = light[i + 1].p - light[i].p;
             const float d = length(w);
             w = d > 0 ? w / d : Vec3(0.0f);
-            const double rev = solidAngleToArea(light[0], w,
-                                                vertexDirectionPdf(scene, light[1], normalize(light[2].p - light[1].p), -w,
-                                                                   st.width, st.height), d);
-            r = misPower(h, Real(remap0(rev)) / Real(remap0(light[0].pdfFwd[c])));
+            const double rev = solidAngleToArea(
+                light[i], w, vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, st.width, st.height),
+                d);
+            r = misPower(h, Real(remap0(rev)) / Real(remap0(light[i].pdfFwd[c])));
         }
         const bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
-        const bool on = !light[i].delta && !deltaBefore;
-        q = r * ((on ? Sums<Real>::variant(light[i])[c] : Real(0)) + q);
+        const bool on = !light[i].delta && !deltaBefore && !(i == 0 && emitterHitOff);
+        Real V = on ? Sums<Real>::variant(light[i])[c] : Real(0);
+        if (on && i >= 1 && ci == st.passFirstAt)
+            V = variantFactor<Real, N>(scene, light[i + 1], light[i], light[i - 1], i == 1, i >= 2, light[i + 1].edgeCrossed,
+                                       st, nullptr, true)[c];
+        q = r * (V + q);
     }
     return q;
 }
@@ -179,7 +189,8 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // V_tt on the joined path (tt camera vertices).
     auto variants = [&](int tt, RC* rho) {
         if (tt >= 2 && k + 1 - tt >= 1)
-            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, tt < k, crossed(tt - 1), st, rho);
+            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, tt < k, crossed(tt - 1), st, rho,
+                                          tt - 1 == st.passFirstAt);
         if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, false, crossed(2), st, rho);
         if (rho) *rho = RC(Real(0));
         return RC(Real(1));
@@ -189,18 +200,21 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     const RC ownV = variants(t, &rhoOwn);
     RC camV[2], lightV[2];
     bool camOn[2] = {false, false}, lightOn[2] = {false, false};
+    // A medium vertex at the camera walk's index passFirstAt, which that walk never makes:
+    // the emitter hit beyond it (s = 0) cannot make this path.
+    const bool emitterHitOff = k == st.passFirstAt + 1 && at(k - 1).isMedium() && !at(k - 2).delta;
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
-        bool own = reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1);
+        bool own = (reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1)) && i - 1 != st.passFirstAt;
         int slot = i - (t - 2);
         camOn[slot] = !camera[i].delta && !camera[i - 1].delta;
         if (camOn[slot]) camV[slot] = own ? Sums<Real>::variant(camera[i]) : variants(i, nullptr);
     }
     for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
-        bool own = i == s - 2 && !(t == 1 && ownEquiAngular);
+        bool own = i == s - 2 && !(t == 1 && ownEquiAngular) && t + s - i - 1 != st.passFirstAt;
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
         int slot = i - (s - 2);
-        lightOn[slot] = !light[i].delta && !deltaBefore;
+        lightOn[slot] = !light[i].delta && !deltaBefore && !(i == 0 && emitterHitOff);
         if (lightOn[slot]) lightV[slot] = own ? Sums<Real>::variant(light[i]) : variants(t + s - i, nullptr);
     }
     // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
@@ -214,7 +228,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // one 1/ρ.
         Real sum = ownV[c];
         if (ownEquiAngular) {
-            bool ffOn = st.connect != ConnectMode::EquiAngular;
+            bool ffOn = st.connect != ConnectMode::EquiAngular && t - 1 != st.passFirstAt;
             sum = Real(1) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0));
         }
         // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
@@ -232,8 +246,9 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
         // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
         // y(s−1) is an equi-angular camera connection's.
-        Real q = s - 3 >= 0 ? (k >= st.passFrom ? passedLightPrefix<Real>(scene, light, s - 3, c, st)
-                                                : Sums<Real>::prefix(light[s - 3], c))
+        const bool passedPrefix = k >= st.passFrom || k == st.passFirstAt || k == st.passFirstAt + 1;
+        Real q = s - 3 >= 0 ? (passedPrefix ? passedLightPrefix<Real, N>(scene, light, s - 3, k, c, emitterHitOff, st)
+                                            : Sums<Real>::prefix(light[s - 3], c))
                             : Real(0);
         for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
             int slot = i - (s - 2);
@@ -273,6 +288,15 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
 //   z(t−2)  made from z(t−1) arriving from y(s−1) (for s = 0, emitted from the light there);
 //   y(s−2)  made from y(s−1) arriving from z(t−1);
 // the last two over their own edges, whose free flight the walks stored.
+namespace {
+// Whether the camera walk's density of making v as its vertex j (after a connection vertex,
+// never specular) has free-flight factor 1. A medium vertex at passFirstAt keeps its factor:
+// its strategy's free-flight variant is dropped instead (variantFactor).
+bool passesTo(const MisSettings& st, int j, const PathVertex& v) {
+    return cameraWalkPasses(st, j, false) && !(v.isMedium() && j < st.passFrom);
+}
+}  // namespace
+
 void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t,
                                 const StrategyJoin& join, MisSettings st) {
     const int W = st.width, H = st.height;
@@ -308,11 +332,11 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
     y.pdfRev = y.kind == VertexKind::Light && y.deltaLight
                    ? Channels(0.0)
                    : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) *
-                         (t >= st.passFrom ? Channels(1.0) : join.freeFlightToLight);
+                         (passesTo(st, t, y) ? Channels(1.0) : join.freeFlightToLight);
     if (s >= 2) {
         PathVertex& ym = light[s - 2];
         ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H), y.edgeDist) *
-                    (t + 1 >= st.passFrom ? Channels(1.0) : y.edgeRevFreeFlight);
+                    (passesTo(st, t + 1, ym) ? Channels(1.0) : y.edgeRevFreeFlight);
     }
 }
 

@@ -85,7 +85,8 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
-        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats, count >= start.passFrom);
+        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats,
+                                count >= start.passFrom || (count == start.passFirstAt && !prev.delta));
         v.edgeEnd = f.firstEnd;
         if (f.end == Flight::End::Escape) return count;
         beta *= f.weight;

@@ -83,7 +83,10 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     std::vector<float> power(lights_.size());
     for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);
-    for (const Light& l : lights_) hasHittableLights_ |= l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
+    for (const Light& l : lights_) {
+        hasHittableLights_ |= l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
+        hasDirectionalLights_ |= l.kind == LightKind::Directional;
+    }
 
     for (const Mesh& mesh : desc_.meshes)
         if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible)

@@ -27,7 +27,18 @@ struct MisSettings {
     // The camera walk passes through media from this vertex index on (WalkStart::passFrom:
     // --max-depth m gives m + 1): a camera walk makes a vertex there with free-flight density 1.
     int passFrom = 1 << 30;
+    // And at this index (m, the last scattering event), after a vertex that is not specular,
+    // where the equi-angular light connection covers the medium (WalkStart::passFirstAt): no
+    // medium vertex there (density 0: its strategies lose their free-flight variants), and a
+    // surface with free-flight density 1.
+    int passFirstAt = 1 << 30;
 };
+
+// Whether the camera walk passes through media to make its vertex j, after a vertex that is
+// specular (prevDelta) or not.
+inline bool cameraWalkPasses(const MisSettings& st, int j, bool prevDelta) {
+    return j >= st.passFrom || (j == st.passFirstAt && !prevDelta);
+}
 
 // Stores in each vertex of a subpath (n vertices) the sums misWeight needs of it, from the
 // densities its walk stored: misPrefix of vertex j = Σ_{i ≤ j} Π_{m=i..j} r_m^β · V_i

@@ -20,11 +20,11 @@ constexpr int kMaxSubpathVertices = 1024;  // per subpath; Russian roulette ends
 PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos);
 
 // Camera subpath through film position (fx, fy); at most maxScatter vertices past z0. From
-// vertex passFrom on the walk passes through media (WalkStart::passFrom). Returns the vertex
-// count, z0 included. hero: the colour channel that drives free flight in coloured media
-// (both subpaths of a sample share it).
+// vertex passFrom on, and at passFirstAt after a vertex that is not specular, the walk passes
+// through media (WalkStart). Returns the vertex count, z0 included. hero: the colour channel
+// that drives free flight in coloured media (both subpaths of a sample share it).
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
-                       int hero, const Sampler& sampler, PathVertex* path, PathStats& stats);
+                       int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing).

@@ -20,6 +20,10 @@ struct WalkStart {
     // T, free-flight density 1): the camera walk's vertex past the last scattering event a
     // --max-depth allows, which only an emitter hit can use (bdpt.cpp).
     int passFrom = 1 << 30;
+    // At this vertex index, after a vertex that is not specular, the ray passes through
+    // media too: the camera walk's last scattering event where equi-angular light
+    // connections cover the medium (bdpt.cpp; bdpt_mis.h, MisSettings::passFirstAt).
+    int passFirstAt = 1 << 30;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

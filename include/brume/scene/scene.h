@@ -61,6 +61,7 @@ public:
     int mediumChannels() const { return mediumChannels_; }
     // True if a path can hit an emitter: some light is an emissive triangle or a sphere.
     bool hasHittableLights() const { return hasHittableLights_; }
+    bool hasDirectionalLights() const { return hasDirectionalLights_; }
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
 
@@ -95,7 +96,8 @@ private:
     std::vector<MediumStack> lightMedia_;  // per light: front side; then per light: back side
     bool hasInvisibleBoundaries_ = false;
     int mediumChannels_ = 1;
-    bool hasHittableLights_ = false;  // per mesh, -1 if not emissive
+    bool hasHittableLights_ = false;
+    bool hasDirectionalLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

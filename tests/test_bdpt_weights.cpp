@@ -42,6 +42,7 @@ struct Checker : BdptObserver {
     bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
     bool general = false;  // general connections have equi-angular variants (BdptOptions::generalEquiAngular)
     int maxDepth = 4;      // BdptOptions::maxDepth
+    double connectP = 1;   // BdptOptions::generalConnection
     mutable std::mutex mutex;
     mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
@@ -246,6 +247,8 @@ struct Checker : BdptObserver {
                 for (int i = tt; i <= k; ++i) prod *= remap(rev[i][c]);
                 bool eaOn = rho[c] > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
                 if (lastMediumUnmade && tt - 1 >= m) ffOn = false;  // the camera walk cannot make x(m)
+                // A general connection is made with probability connectP: its densities count that much.
+                if (tt >= 2 && ss >= 2) prod *= connectP;
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
                 sum += termFf + termEa;
                 if (tt == t && c == hero) self = equiAngular ? termEa : termFf;
@@ -287,7 +290,7 @@ struct Checker : BdptObserver {
 namespace {
 
 void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
-                  bool general = false) {
+                  bool general = false, float connectP = 1) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
@@ -296,10 +299,12 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         checker.connect = connect;
         checker.exact = exact;
         checker.general = general;
+        checker.connectP = connectP;
         BdptOptions opt{checker.maxDepth, h};
         opt.connect = connect;
         opt.exactEquiAngular = exact;
         opt.generalEquiAngular = general;
+        opt.generalConnection = connectP;
         opt.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
@@ -352,6 +357,16 @@ TEST_CASE("bdpt MIS weights with equi-angular variants of general connections to
         checkWeights("quad_light_fog_chromatic.gltf", 4, m, false, true);
     }
     checkWeights("bdpt_glass_sphere.gltf", 4, ConnectMode::Mis, true, true);
+}
+
+// Probabilistic general connections: each made with probability p, its densities p times.
+TEST_CASE("bdpt MIS weights with general connections made with probability p", "[bdpt][mis]") {
+    for (ConnectMode m : {ConnectMode::Density, ConnectMode::Mis}) {
+        checkWeights("quad_light_fog.gltf", 4, m, false, false, 0.3f);
+        checkWeights("bdpt_glass_sphere.gltf", 4, m, false, false, 0.3f);
+        checkWeights("quad_light_fog_chromatic.gltf", 4, m, false, false, 0.3f);
+    }
+    checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::Mis, false, true, 0.3f);
 }
 
 TEST_CASE("bdpt MIS weights with exact (bounded, clipped) equi-angular densities", "[bdpt][mis]") {

@@ -57,8 +57,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    const MisSettings mis{options_.heuristic, options_.connect, options_.exactEquiAngular, options_.generalEquiAngular,
-                         width, height, channels, hero, passFrom, passFirstAt};
+    const MisSettings mis{options_.heuristic, options_.connect,       options_.exactEquiAngular,
+                          options_.generalEquiAngular, options_.generalConnection, width, height, channels, hero,
+                          passFrom, passFirstAt};
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);

@@ -79,7 +79,8 @@ ChannelsOf<Real> equiAngularRatio(const Scene& scene, const PathVertex& p, const
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
 // [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
 // equi-angular variant). `general`: the strategy is a general connection (s, t ≥ 2), which
-// has an equi-angular variant only with MisSettings::generalEquiAngular. freeFlightOff: v is
+// has an equi-angular variant only with MisSettings::generalEquiAngular and is made with
+// probability MisSettings::generalConnection. freeFlightOff: v is
 // the camera walk's vertex MisSettings::passFirstAt, which it never makes in a medium.
 template <class Real, int N>
 ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
@@ -96,6 +97,8 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
         bool ffOn = !((st.connect == ConnectMode::EquiAngular || freeFlightOff) && eaOn);
         V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
+    // A general connection is made with probability p: its densities count p times.
+    if (general && st.generalConnection != 1.0) V *= misPower(st.heuristic, Real(st.generalConnection));
     return V;
 }
 
@@ -220,6 +223,10 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
     const Channels own = s >= 1 ? camera[t - 1].channelRatio * light[s - 1].channelRatio : camera[t - 1].channelRatio;
 
+    // The own strategy's count (a general connection is made with probability p): the
+    // numerator of its weight, and a factor of its own terms (ownV has it already).
+    const Real ownCount =
+        s >= 2 && t >= 2 && st.generalConnection != 1.0 ? misPower(h, Real(st.generalConnection)) : Real(1);
     Real total = 0;
     for (int c = 0; c < N; ++c) {
         // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
@@ -229,7 +236,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         Real sum = ownV[c];
         if (ownEquiAngular) {
             bool ffOn = st.connect != ConnectMode::EquiAngular && t - 1 != st.passFirstAt;
-            sum = Real(1) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0));
+            sum = ownCount * (Real(1) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0)));
         }
         // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
         // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
@@ -261,7 +268,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         total += misPower(h, Real(own[c])) * sum;
     }
     // One channel of st.channels was drawn: the estimate is divided by its probability.
-    return total > 0 ? double(N / total) : 0.0;
+    return total > 0 ? double(N * ownCount / total) : 0.0;
 }
 
 }  // namespace

@@ -267,6 +267,9 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
     const Scene& scene = c.scene;
     const PathVertex& y = c.light[s - 1];
     if (!scatters(y)) return Spectrum(0.0f);
+    // Made with probability p (BdptOptions::generalConnection), then counted 1/p.
+    const float p = float(c.mis.generalConnection);
+    if (p < 1 && c.sampler.get1D(dim::connection(s, t) + dim::kConnect) >= p) return Spectrum(0.0f);
     const PathVertex& zPrev = c.camera[t - 2];
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.generalEquiAngular && c.camera[t - 1].edgeMedium &&
                       !zPrev.delta;
@@ -293,7 +296,7 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
         Spectrum contrib = z.beta * fz * conn.T * fy * y.beta / (dist * dist);
         if (isBlack(contrib)) continue;
         float weight = weigh(c, c.light, s, t, joinOf(conn, ea));
-        if (std::isfinite(weight)) L += counted(c, StrategyKind::SubpathConnection, ea, contrib * weight);
+        if (std::isfinite(weight)) L += counted(c, StrategyKind::SubpathConnection, ea, contrib * (weight / p));
     }
     return L;
 }

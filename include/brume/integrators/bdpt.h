@@ -44,6 +44,10 @@ struct BdptOptions {
     // usually a mean free path from the ray, where the equi-angular density is nearly flat:
     // per unit time they lose (docs/results.md), so they are off unless asked for.
     bool generalEquiAngular = false;
+    // Probability with which each general connection (s, t ≥ 2) is made (probabilistic
+    // connections: a made one counts 1/p, and the weights see every general strategy's
+    // density times p). 1: every pair of subpath vertices is joined.
+    float generalConnection = 1.0f;
     const BdptObserver* observer = nullptr;
 };
 

@@ -17,8 +17,10 @@ struct MisSettings {
     // ray from the previous vertex (docs/mis.md); true = over the part of that ray in its
     // medium, clipped as the sampler clips it (one ray cast per density; for measurements).
     bool exactEquiAngular = false;
-    // Whether general connections (s, t ≥ 2) have equi-angular variants (BdptOptions).
+    // Whether general connections (s, t ≥ 2) have equi-angular variants (BdptOptions), and the
+    // probability with which each is made (BdptOptions::generalConnection).
     bool generalEquiAngular = false;
+    double generalConnection = 1.0;
     int width = 0, height = 0;  // the film, for clipping to the view frustum
     // Colour channels the weights run over (Scene::mediumChannels: 1 without coloured media)
     // and the sample's hero channel, which drove every free-flight distance of both walks.

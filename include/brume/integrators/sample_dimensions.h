@@ -7,7 +7,8 @@
 //   light subpath start: light pick, emission    kLightStart + kPick, kPosition (2D), kEmitDir (2D)
 //   camera vertex k, light vertex k (the walk    walkVertex(side, k) + kDistance, kChannel,
 //     that leaves vertex k and makes k + 1)        kDirection (2D), kLobe, kRoulette
-//   connection (s, t) of the BDPT                connection(s, t) + kPick, kLightPoint (2D), kEquiAngular
+//   connection (s, t) of the BDPT                connection(s, t) + kPick, kLightPoint (2D), kEquiAngular,
+//                                                  kConnect (whether a general connection is made)
 //   pt at camera vertex k: next-event estimate   connection(1, k + 1) (same fields)
 //   pt on the segment leaving camera vertex k:   equiAngularSegment(k) + kPick, kAnchor (2D),
 //     equi-angular strategy                        kEquiAngular, kLightPoint (2D)
@@ -31,7 +32,7 @@ constexpr uint32_t kPosition = 1, kEmitDir = 3;  // after kPick (0)
 // Fields of a walk block (8 dimensions a vertex).
 constexpr uint32_t kDistance = 0, kChannel = 1, kDirection = 2, kLobe = 4, kRoulette = 5;
 // Fields of a connection block (8 dimensions a connection).
-constexpr uint32_t kPick = 0, kLightPoint = 1, kAnchor = 3, kEquiAngular = 5;
+constexpr uint32_t kPick = 0, kLightPoint = 1, kAnchor = 3, kEquiAngular = 5, kConnect = 6;
 
 constexpr uint32_t kBlock = 8;
 constexpr uint32_t kMaxPlace = 1024;  // vertices per subpath, as BDPT stores them

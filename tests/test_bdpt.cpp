@@ -305,6 +305,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         int depth;
         ConnectMode mode;
         bool exact = false;  // exact equi-angular densities in the weights
+        float connectP = 1;  // BdptOptions::generalConnection
     };
     const Case cases[] = {
         {"single_near.gltf", 1, ConnectMode::EquiAngular},  {"single_near.gltf", -1, ConnectMode::Mis},
@@ -313,6 +314,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         {"bdpt_quad_fogbox.gltf", 3, ConnectMode::Mis},    {"bdpt_quad_fogbox.gltf", 3, ConnectMode::Mis, true},
         {"single_spot.gltf", 2, ConnectMode::Mis, true},
         {"bdpt_window_fog.gltf", 2, ConnectMode::EquiAngular}, {"bdpt_window_fog.gltf", 2, ConnectMode::Mis},
+        {"quad_light_fog.gltf", -1, ConnectMode::Mis, false, 0.3f}, {"bdpt_quad_fogbox.gltf", -1, ConnectMode::Mis, false, 0.3f},
     };
     for (const Case& c : cases) {
         auto scene = loadTestScene(c.file);
@@ -320,6 +322,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         BdptOptions opt{c.depth, MisHeuristic::Power};
         opt.connect = c.mode;
         opt.exactEquiAngular = c.exact;
+        opt.generalConnection = c.connectP;
         BdptIntegrator bdpt(opt);
         // Blocks of 4×4 pixels: single equi-angular connections near a light have heavy tails.
         auto a = estimateFilm(*scene, pt, 16, 16, 64, 16, 1, 4);
@@ -327,7 +330,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         std::string where;
         double z = worstZ(a, b, std::vector<bool>(a.size(), false), 4, &where);
         INFO(c.file << " max-depth " << c.depth << " --connect " << (c.mode == ConnectMode::Mis ? "mis" : "equiangular")
-                    << (c.exact ? " (exact densities)" : "") << ": worst " << where << " (z = " << z << ")");
+                    << (c.exact ? " (exact densities)" : "") << " general connections with p " << c.connectP << ": worst " << where << " (z = " << z << ")");
         CHECK(z < zBound(3 * int(a.size())));
     }
 }
@@ -346,6 +349,7 @@ TEST_CASE("each equi-angular bdpt strategy alone is unbiased", "[bdpt][equiangul
     for (auto [s, t] : {std::pair<int, int>{1, 3}, {2, 2}, {3, 1}}) {
         BdptOptions opt{2, MisHeuristic::Power, s, t};
         opt.connect = ConnectMode::EquiAngular;
+        opt.generalEquiAngular = true;  // (2, 2) has its equi-angular variant only then
         auto est = estimateFilm(*scene, BdptIntegrator(opt), W, W, 64, 16, 40 + uint64_t(s), B);
         std::string where;
         double z = worstZ(est, exact2, none, W / B, &where);

@@ -20,9 +20,10 @@ namespace {
 
 constexpr double kZ = 4.5;
 constexpr int kBatches = 32;
-BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode) {
+BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode, float generalConnection = 1) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
     o.connect = mode;
+    o.generalConnection = generalConnection;
     return BdptIntegrator(o);
 }
 
@@ -83,6 +84,21 @@ TEST_CASE("bdpt furnace in every connect mode: every pixel is 1", "[bdpt][oracle
         for (ConnectMode mode : kConnectModes) {
             BdptIntegrator bdpt = makeBdpt(-1, mode);
             auto px = estimateFilm(*scene, bdpt, 8, 8, 8, kBatches, 7, 2);
+            std::string where;
+            double z = worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, &where);
+            INFO(file << " --connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");
+            CHECK(z < kZ);
+        }
+    }
+}
+
+// General connections made with probability 1/4 each (BdptOptions::generalConnection).
+TEST_CASE("bdpt furnace with probabilistic general connections: every pixel is 1", "[bdpt][oracle]") {
+    for (const char* file : {"furnace_ambient.gltf", "furnace_albedo.gltf"}) {
+        auto scene = loadTestScene(file);
+        for (ConnectMode mode : {ConnectMode::Density, ConnectMode::Mis}) {
+            BdptIntegrator bdpt = makeBdpt(-1, mode, 0.25f);
+            auto px = estimateFilm(*scene, bdpt, 8, 8, 8, kBatches, 8, 2);
             std::string where;
             double z = worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, &where);
             INFO(file << " --connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");

@@ -34,7 +34,7 @@ TEST_CASE("command line: each command's --help lists its options and exits 0", "
         std::vector<const char*> options;
     } cases[] = {
         {"render", {"-o, --output OUT", "--spp N", "--res WxH", "--no-nee", "--checkpoint-every SECONDS"}},
-        {"bench", {"-o, --out DIR", "--methods LIST", "--reference-method M", "--no-chart", "bdpt:mis-exact"}},
+        {"bench", {"-o, --out DIR", "--methods LIST", "--reference-method M", "--no-chart", "--max-depth N", "bdpt:mis-exact", "bdpt:mis-general"}},
         {"raybench", {"--threads N", "--spp N", "--res WxH"}},
     };
     for (const Case& c : cases) {

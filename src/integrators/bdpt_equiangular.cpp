@@ -55,7 +55,7 @@ bool equiAngularTowardsAim(const Scene& scene, const EquiAngularAim& aim, const 
 }
 
 bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
-                       const EquiAngularAim& aim, MisSettings mis, float u, PathVertex* out) {
+                       const EquiAngularAim& aim, MisSettings mis, float u, PathVertex* out, double* density) {
     MediumSegment seg{edge.edgeOrigin, edge.edgeDir, edge.edgeEnd, edge.edgeMedium};
     EquiAngular ea;
     if (!equiAngularTowardsAim(scene, aim, seg, mis.width, mis.height, &ea)) return false;
@@ -89,8 +89,9 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     v.channelRatio = prev.channelRatio;
     // pdfFwd: the equi-angular density of the point as the weights see it (the stand-in
     // unless exact): direction density × 1/d² × p_ea.
+    *density = equiAngularDensity(scene, prev, v, aim, mis);
     v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height), dist) *
-               equiAngularDensity(scene, prev, v, aim, mis);
+               *density;
     return v.pdfFwd[0] > 0;  // one density for every channel: the equi-angular one
 }
 

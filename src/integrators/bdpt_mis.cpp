@@ -179,7 +179,7 @@ Real passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k
 
 template <class Real, int N>
 double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                   bool ownEquiAngular, bool connectionCrossed) {
+                   bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity) {
     using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
     const int k = s + t - 1;  // vertices x0 … xk
@@ -199,8 +199,15 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         return RC(Real(1));
     };
     // The V terms next to the connection, per channel (each may cost an equi-angular density).
-    RC rhoOwn;
-    const RC ownV = variants(t, &rhoOwn);
+    RC rhoOwn(Real(0));
+    RC ownV(Real(0));  // (not read for an equi-angular sample)
+    if (ownEquiAngular && ownEquiAngularDensity > 0) {
+        // ρ of the moved vertex from its placement: p_ea over the free flight of its edge.
+        const Channels& pff = (t >= 2 ? camera[t - 1] : light[s - 1]).edgeFwdFreeFlight;
+        for (int c = 0; c < N; ++c) rhoOwn[c] = pff[c] > 0 ? Real(ownEquiAngularDensity) / Real(pff[c]) : Real(0);
+    } else {
+        ownV = variants(t, &rhoOwn);
+    }
     RC camV[2], lightV[2];
     bool camOn[2] = {false, false}, lightOn[2] = {false, false};
     // A medium vertex at the camera walk's index passFirstAt, which that walk never makes:
@@ -279,9 +286,11 @@ void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, M
 }
 
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                 bool ownEquiAngular, bool connectionCrossed) {
-    return st.channels == 1 ? misWeightIn<double, 1>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed)
-                            : misWeightIn<long double, 3>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed);
+                 bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity) {
+    return st.channels == 1 ? misWeightIn<double, 1>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
+                                                     ownEquiAngularDensity)
+                            : misWeightIn<long double, 3>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
+                                                          ownEquiAngularDensity);
 }
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)
@@ -356,7 +365,7 @@ double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* 
     for (int i = 0; i < 4; ++i)
         if (touched[i]) saved[i] = touched[i]->pdfRev;
     connectionReverseDensities(scene, light, s, camera, t, join, st);
-    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed);
+    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed, join.ownEquiAngularDensity);
     for (int i = 0; i < 4; ++i)
         if (touched[i]) touched[i]->pdfRev = saved[i];
     return w;

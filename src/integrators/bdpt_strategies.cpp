@@ -116,8 +116,8 @@ Connection connectVertices(const Scene& scene, const PathVertex& z, const PathVe
                          mediaTowards(scene, z, d), z.isMedium(), y.isMedium(), stats);
 }
 
-StrategyJoin joinOf(const Connection& conn, bool equiAngular) {
-    return StrategyJoin{conn.freeFlightToA, conn.freeFlightToB, conn.crossed, equiAngular};
+StrategyJoin joinOf(const Connection& conn, bool equiAngular, double equiAngularDensity) {
+    return StrategyJoin{conn.freeFlightToA, conn.freeFlightToB, conn.crossed, equiAngular, equiAngular ? equiAngularDensity : 0.0};
 }
 
 // Whether a connection's free-flight variant runs: the vertex must scatter, and where the
@@ -136,9 +136,9 @@ bool variantWanted(const StrategyContext& c, int variant, bool on) {
 // ray its walk traced from path[i − 1], towards `aim`, with the number u, swapped in for as
 // long as `swap` lives. False if no vertex can be placed.
 bool swapInEquiAngular(const StrategyContext& c, PathVertex* path, int i, const EquiAngularAim& aim, float u,
-                       VertexSwap& swap) {
+                       VertexSwap& swap, double* density) {
     const PathVertex& edge = swap.save(&path[i]);
-    return equiAngularVertex(c.scene, edge, path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &path[i]);
+    return equiAngularVertex(c.scene, edge, path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &path[i], density);
 }
 
 // A nonzero weighted estimate of a strategy, counted for the pass statistics.
@@ -185,8 +185,9 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
+        double pea = 0;
         if (ea && !swapInEquiAngular(c, c.camera, t - 1, EquiAngularAim{true, anchor, &l, false},
-                                     c.sampler.get1D(dims + dim::kEquiAngular), swap))
+                                     c.sampler.get1D(dims + dim::kEquiAngular), swap, &pea))
             continue;
         const PathVertex& z = c.camera[t - 1];
         LightSample ls;
@@ -216,7 +217,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             float pos, dir;
             emissionPdf(scene, l, p, n, -ls.wi, &pos, &dir);
             PathVertex y0 = makeLightVertex(scene, li, pick, p, n, pos);
-            w = weigh(c, &y0, 1, t, joinOf(conn, ea));
+            w = weigh(c, &y0, 1, t, joinOf(conn, ea, pea));
         }
         if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
     }
@@ -238,8 +239,9 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
         // point light), within the view frustum.
         VertexSwap swap;
+        double pea = 0;
         if (ea && !swapInEquiAngular(c, c.light, s - 1, equiAngularAim(scene, c.camera[0], false),
-                                     c.sampler.get1D(dim::connection(s, 1) + dim::kEquiAngular), swap))
+                                     c.sampler.get1D(dim::connection(s, 1) + dim::kEquiAngular), swap, &pea))
             continue;
         const PathVertex& y = c.light[s - 1];
         CameraConnection cc;
@@ -258,7 +260,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         const float cosCam = dot(-toCam, cam.forward);
         Spectrum value = y.beta * f * conn.T * (cc.We * cosCam / (cc.dist * cc.dist));
         if (isBlack(value)) continue;
-        float w = weigh(c, c.light, s, 1, joinOf(conn, ea));
+        float w = weigh(c, c.light, s, 1, joinOf(conn, ea, pea));
         if (std::isfinite(w)) splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * w), c.width, c.height);
     }
 }
@@ -280,8 +282,9 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
         // The equi-angular variant: z(t−1) on its ray, towards y(s−1).
         VertexSwap swap;
+        double pea = 0;
         if (ea && !swapInEquiAngular(c, c.camera, t - 1, equiAngularAim(scene, y, false),
-                                     c.sampler.get1D(dim::connection(s, t) + dim::kEquiAngular), swap))
+                                     c.sampler.get1D(dim::connection(s, t) + dim::kEquiAngular), swap, &pea))
             continue;
         const PathVertex& z = c.camera[t - 1];
         Vec3 d = y.p - z.p;
@@ -295,7 +298,7 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
         if (isBlack(conn.T)) continue;
         Spectrum contrib = z.beta * fz * conn.T * fy * y.beta / (dist * dist);
         if (isBlack(contrib)) continue;
-        float weight = weigh(c, c.light, s, t, joinOf(conn, ea));
+        float weight = weigh(c, c.light, s, t, joinOf(conn, ea, pea));
         if (std::isfinite(weight)) L += counted(c, StrategyKind::SubpathConnection, ea, contrib * (weight / p));
     }
     return L;

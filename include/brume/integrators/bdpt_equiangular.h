@@ -37,7 +37,8 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
 // edge record (PathVertex::edge*) holds that ray; prevFrom is the direction from prev back
 // along its own subpath. False if no point can be placed (*out may then have been written).
 // out must not be edge or prev.
+// *density receives the vertex's equi-angular density as the weights see it.
 bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVertex& prev, Vec3 prevFrom,
-                       const EquiAngularAim& aim, MisSettings settings, float u, PathVertex* out);
+                       const EquiAngularAim& aim, MisSettings settings, float u, PathVertex* out, double* density);
 
 }  // namespace brume

@@ -54,6 +54,10 @@ struct StrategyJoin {
     Channels freeFlightToLight;     // a walk z(t−1) → y(s−1) stopping at y(s−1) (Connection::freeFlightToB)
     bool crossed = false;           // the connecting segment crossed an invisible boundary
     bool equiAngular = false;       // the sample is the strategy's equi-angular variant
+    // For an equi-angular variant, its vertex's equi-angular density p_ea (per unit length, as
+    // the weights see it) from the placement, so the weight need not compute it again (0: it
+    // does).
+    double ownEquiAngularDensity = 0;
 };
 
 // The weight of the strategy (s, t) for the joined subpaths (for s = 1 `light` is the sampled
@@ -71,6 +75,6 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 // The weight for joined subpaths whose four vertices next to the connection already carry its
 // reverse densities (strategyWeight calls this; the weight checker's derivation follows it).
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
-                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed);
+                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity = 0);
 
 }  // namespace brume

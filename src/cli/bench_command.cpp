@@ -70,6 +70,13 @@ struct BenchMethod {
     std::unique_ptr<Integrator> (*make)(int maxDepth);
 };
 
+// A method with the sampler it renders with; named METHOD, or METHOD:independent.
+struct BenchChoice {
+    const BenchMethod* method;
+    SamplerKind sampler;
+    std::string name;
+};
+
 const BenchMethod kMethods[] = {
     {"pt:density", true, "path tracer, light connections from the free-flight point",
      [](int d) { return pathTracer(d, ConnectMode::Density); }},
@@ -125,7 +132,7 @@ struct BenchArgs {
     std::string scene;
     std::string outDir;
     std::string reference;  // empty: render (or reuse) one
-    std::vector<const BenchMethod*> methods;
+    std::vector<BenchChoice> methods;
     std::vector<double> budgets;
     Resolution res{160, 120};
     uint64_t seed = 1;
@@ -169,13 +176,31 @@ std::string benchFooter() {
         std::snprintf(line, sizeof line, "  %-18s %s%s\n", m.name, m.what, m.byDefault ? "" : " (not by default)");
         text += line;
     }
-    return text + "\nCtrl-C stops after the current pass; no results.csv is written (exit code 130).";
+    return text +
+           "Every method renders with the sobol sampler; METHOD:independent renders it with independent\n"
+           "samples instead (e.g. --methods pt:mis,pt:mis:independent).\n"
+           "\nCtrl-C stops after the current pass; no results.csv is written (exit code 130).";
 }
 
 const BenchMethod* namedMethod(const std::string& what, const std::string& name) {
     const BenchMethod* m = findMethod(name);
     if (!m) throw UsageError(what + ": unknown method '" + name + "' (available: " + methodNames() + ")");
     return m;
+}
+
+// A method as --methods names it: METHOD, or METHOD:SAMPLER (sobol, the default, or
+// independent), e.g. pt:mis:independent.
+BenchChoice namedChoice(const std::string& what, const std::string& item) {
+    for (const char* suffix : {":independent", ":sobol"}) {
+        const size_t n = std::strlen(suffix);
+        if (item.size() > n && item.compare(item.size() - n, n, suffix) == 0) {
+            const BenchMethod* m = namedMethod(what, item.substr(0, item.size() - n));
+            const SamplerKind kind = parseSamplerKind(what, suffix + 1);
+            return BenchChoice{m, kind, kind == SamplerKind::Sobol ? std::string(m->name) : item};
+        }
+    }
+    const BenchMethod* m = namedMethod(what, item);
+    return BenchChoice{m, SamplerKind::Sobol, m->name};
 }
 
 // The command line; false if help was asked for (and printed).
@@ -192,9 +217,9 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
     addOption(app, "--methods", "LIST", "comma-separated methods (default: all six); see below",
               [&](const std::string& v) {
                   for (const std::string& item : splitList("--methods", v)) {
-                      const BenchMethod* m = namedMethod("--methods", item);
-                      if (std::find(a.methods.begin(), a.methods.end(), m) != a.methods.end())
-                          throw UsageError("--methods: method '" + item + "' given twice");
+                      BenchChoice m = namedChoice("--methods", item);
+                      for (const BenchChoice& other : a.methods)
+                          if (other.name == m.name) throw UsageError("--methods: method '" + item + "' given twice");
                       a.methods.push_back(m);
                   }
                   methodsGiven = true;
@@ -245,7 +270,7 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
     if (a.outDir.empty()) throw UsageError("bench: no output directory given (--out DIR)");
     if (!methodsGiven)
         for (const BenchMethod& m : kMethods)
-            if (m.byDefault) a.methods.push_back(&m);
+            if (m.byDefault) a.methods.push_back(BenchChoice{&m, SamplerKind::Sobol, m.name});
     if (!budgetsGiven) a.budgets = {1, 2, 4};
     if (!a.referenceMethod) a.referenceMethod = findMethod(kReferenceMethod);
     if (!a.reference.empty()) {
@@ -427,7 +452,7 @@ Metrics compareImages(const std::vector<float>& image, const std::vector<float>&
 }
 
 struct Row {
-    const BenchMethod* method;
+    const BenchChoice* method;
     double budget;
     double seconds;
     int spp;
@@ -575,7 +600,7 @@ int runBench(const std::vector<std::string>& argv) {
     // The table, printed row by row as the renders finish. Budgets outermost, so that the
     // methods of one budget run close together in time (and under similar machine load).
     size_t methodWidth = 6, sceneWidth = std::max<size_t>(5, sceneLabel.size());
-    for (const BenchMethod* m : a.methods) methodWidth = std::max(methodWidth, std::strlen(m->name));
+    for (const BenchChoice& m : a.methods) methodWidth = std::max(methodWidth, m.name.size());
     const int mw = int(methodWidth), sw = int(sceneWidth);
     std::printf("%-*s  %-*s  %8s  %8s  %6s  %11s  %11s  %11s\n", sw, "scene", mw, "method", "budget_s", "seconds",
                 "spp", "rel_mse", "rmse", "efficiency");
@@ -585,13 +610,15 @@ int runBench(const std::vector<std::string>& argv) {
     std::vector<Row> rows;
     std::vector<std::string> imagesWritten;
     for (double budget : a.budgets) {
-        for (const BenchMethod* method : a.methods) {
-            std::unique_ptr<Integrator> integrator = method->make(a.maxDepth);
+        for (const BenchChoice& choice : a.methods) {
+            const BenchChoice* method = &choice;
+            std::unique_ptr<Integrator> integrator = choice.method->make(a.maxDepth);
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;
             options.timeBudget = budget;
             options.seed = a.seed;
+            options.sampler = choice.sampler;
             options.threads = a.threads;
             Film film(res.width, res.height);
             const double cpuBefore = processCpuSeconds();
@@ -607,14 +634,14 @@ int runBench(const std::vector<std::string>& argv) {
                 std::fprintf(stderr,
                              "brume: warning: %s at %g s: the %d threads were busy only %.0f%% of the time; "
                              "is the machine loaded? its timing is unreliable\n",
-                             method->name, budget, workers, 100 * busy);
+                             method->name.c_str(), budget, workers, 100 * busy);
             std::vector<float> image = film.rgb();
             Row row{method, budget, stats.seconds, stats.passes, compareImages(image, reference), 0};
             double cost = row.error.relMse * row.seconds;
             row.efficiency = cost > 0 ? 1 / cost : HUGE_VAL;
             rows.push_back(row);
             std::printf("%-*s  %-*s  %8s  %8.3f  %6d  %11.4e  %11.4e  %11s\n", sw, sceneLabel.c_str(), mw,
-                        method->name, format("%g", budget).c_str(), row.seconds, row.spp, row.error.relMse,
+                        method->name.c_str(), format("%g", budget).c_str(), row.seconds, row.spp, row.error.relMse,
                         row.error.rmse, format("%.4g", row.efficiency).c_str());
             std::fflush(stdout);
             if (budget == largest) {
@@ -633,9 +660,9 @@ int runBench(const std::vector<std::string>& argv) {
     writeTextFile(csvPath, csv);
 
     // Efficiency relative to the first method, per budget.
-    std::printf("\nefficiency relative to %s (higher is better):\n", a.methods.front()->name);
+    std::printf("\nefficiency relative to %s (higher is better):\n", a.methods.front().name.c_str());
     std::printf("%8s", "budget_s");
-    for (const BenchMethod* m : a.methods) std::printf("  %*s", std::max(mw, 8), m->name);
+    for (const BenchChoice& m : a.methods) std::printf("  %*s", std::max(mw, 8), m.name.c_str());
     std::printf("\n");
     for (size_t b = 0; b < a.budgets.size(); ++b) {
         std::printf("%8s", format("%g", a.budgets[b]).c_str());

@@ -43,6 +43,7 @@ struct RenderArgs {
     std::string strategyDir;
     Resolution res;  // width 0: from the camera
     uint64_t seed = 0;
+    SamplerKind sampler = SamplerKind::Sobol;
     int threads = 0;
     std::string checkpoint;       // --checkpoint FILE
     double checkpointEvery = 60;  // seconds
@@ -111,6 +112,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.res = parseResolution("--res", v); });
     addOption(app, "--seed", "N", "random seed (default 0); the same seed gives the same image for any thread count",
               [&](const std::string& v) { a.seed = parseUnsigned64("--seed", v); });
+    addOption(app, "--sampler", "NAME",
+              "sobol (Owen-scrambled Sobol, low discrepancy; the default) or independent (white noise)",
+              [&](const std::string& v) { a.sampler = parseSamplerKind("--sampler", v); });
     addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
               [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
     addOption(app, "--checkpoint", "FILE",
@@ -230,6 +234,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
     return {{"the scene file's FNV-1a hash", hash},
             {"--res", std::to_string(res.width) + "x" + std::to_string(res.height)},
             {"--seed", std::to_string(a.seed)},
+            {"--sampler", samplerName(a.sampler)},
             {"--spp", std::to_string(a.spp)},
             {"--integrator", a.integrator},
             {"--connect", connectName(a.connect)},
@@ -310,6 +315,7 @@ int runRender(const std::vector<std::string>& argv) {
     options.spp = a.spp;
     options.timeBudget = a.seconds;
     options.seed = a.seed;
+    options.sampler = a.sampler;
     options.threads = a.threads;
     options.progress = ::isatty(2) != 0;
 

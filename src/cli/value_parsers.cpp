@@ -82,4 +82,12 @@ Resolution parseResolution(const std::string& what, const std::string& text) {
     return r;
 }
 
+SamplerKind parseSamplerKind(const std::string& what, const std::string& text) {
+    if (text == "sobol") return SamplerKind::Sobol;
+    if (text == "independent") return SamplerKind::Independent;
+    throw UsageError(what + ": unknown sampler '" + text + "' (sobol or independent)");
+}
+
+const char* samplerName(SamplerKind kind) { return kind == SamplerKind::Sobol ? "sobol" : "independent"; }
+
 }  // namespace brume::cli

@@ -191,7 +191,7 @@ private:
         counters = TileCounters();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
-                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass));
+                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass), options_.sampler);
                 Sample2 jitter = sampler.get2D(dim::kFilmJitter);
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "brume/cli/usage_error.h"
+#include "brume/sampling/sampler.h"
 
 namespace brume::cli {
 
@@ -24,5 +25,8 @@ double parsePositiveSeconds(const std::string& what, const std::string& text, do
 Resolution parseResolution(const std::string& what, const std::string& text);
 // Throws UsageError unless the resolution is within the limits above.
 void checkResolution(const std::string& what, Resolution r);
+// "sobol" or "independent", and back.
+SamplerKind parseSamplerKind(const std::string& what, const std::string& text);
+const char* samplerName(SamplerKind kind);
 
 }  // namespace brume::cli

@@ -26,6 +26,7 @@ struct RenderOptions {
     int spp = 16;               // passes to render (ignored when timeBudget > 0)
     double timeBudget = 0;      // seconds; > 0: whole passes until it is spent (at least one)
     uint64_t seed = 0;
+    SamplerKind sampler = SamplerKind::Sobol;  // sampling/sampler.h
     int threads = 0;            // 0 = std::thread::hardware_concurrency()
     bool progress = false;      // progress bar on stderr
 };

@@ -1,12 +1,22 @@
 // Random numbers for one pixel sample, asked for by place: every sampling decision names the
 // dimension it reads (integrators/sample_dimensions.h keeps the table), so the number a
 // decision gets does not depend on how many numbers other decisions drew before it. That is
-// what a low-discrepancy sampler needs. Behind this interface today: independent numbers, a
-// hash of (seed, pixel, pass, dimension) (PCG32 streams for the sequential draws of tests and
-// tools). The image does not depend on which thread renders which pixel, and a light subpath
-// does not depend on the camera subpath's length.
+// what a low-discrepancy sampler needs. Two kinds behind one class:
+//   Sobol (the renderer's default): padded, shuffled, Owen-scrambled 2D Sobol (sobol.h). The
+//     sequence index is the pass; each dimension (a 1D decision) or pair of dimensions (a 2D
+//     one) has its own index shuffle and scrambles, seeded by (seed, pixel, dimension), so
+//     every decision's numbers over the passes of a pixel form a stratified (0, 2)-sequence
+//     (a net at every power of two), independent of every other decision's and of the
+//     neighbouring pixels'. Repeated draws of one decision (repeat > 0) are hashed.
+//   Independent: a hash of (seed, pixel, pass, dimension, repeat): white noise, for
+//     comparison and for tests that need independent samples.
+// The image does not depend on which thread renders which pixel, and a light subpath does
+// not depend on the camera subpath's length. (PCG32 streams serve the sequential draws of
+// tests and tools.)
 #pragma once
 #include <cstdint>
+
+#include "brume/sampling/sobol.h"
 
 namespace brume {
 
@@ -65,20 +75,37 @@ private:
     Pcg32 pcg_;
 };
 
+enum class SamplerKind { Sobol, Independent };
+
 class Sampler {
 public:
-    Sampler(uint64_t seed, uint64_t pixel, uint64_t pass)
-        : Sampler(Keys{mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))}) {}
+    Sampler(uint64_t seed, uint64_t pixel, uint64_t pass, SamplerKind kind = SamplerKind::Independent)
+        : Sampler(Keys{mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))}, pass,
+                  kind) {}
 
     // The number at dimension `dim`. `repeat` > 0: the repeat-th further draw of a decision
     // that may draw a variable number of times (invisible-boundary pieces, tracking steps),
     // from a hashed stream seeded by its dimension; repeat 0 is the dimension itself.
-    float get1D(uint32_t dim, uint32_t repeat = 0) const { return toUnit(hash(dim, repeat) >> 40); }
-    // Dimensions dim and dim + 1 (one hash: 24 bits of it for each).
+    float get1D(uint32_t dim, uint32_t repeat = 0) const {
+        if (kind_ == SamplerKind::Sobol && repeat == 0) {
+            const uint64_t h = sobolKey(dim);
+            return toUnit(owenScramble(sobolDimension0(sobolIndex(h)), uint32_t(h >> 32)) >> 8);
+        }
+        return toUnit(hash(dim, repeat) >> 40);
+    }
+    // Dimensions dim and dim + 1 as one decision (one hash, or one Sobol pair).
     Sample2 get2D(uint32_t dim, uint32_t repeat = 0) const {
+        if (kind_ == SamplerKind::Sobol && repeat == 0) {
+            const uint64_t h = sobolKey(dim), h2 = mixBits(h);
+            const uint32_t i = sobolIndex(h);
+            return {toUnit(owenScramble(sobolDimension0(i), uint32_t(h >> 32)) >> 8),
+                    toUnit(owenScramble(sobolDimension1(i), uint32_t(h2)) >> 8)};
+        }
         uint64_t h = hash(dim, repeat);
         return {toUnit(h >> 40), toUnit((h >> 8) & 0xFFFFFFu)};
     }
+
+    SamplerKind kind() const { return kind_; }
 
     // A sequential stream of this pixel sample's own, apart from the dimensions above: for
     // tests and tools, never for an integrator's decisions.
@@ -89,7 +116,9 @@ private:
     struct Keys {
         uint64_t key, stream;  // of (seed, pixel) and of (seed, pass)
     };
-    explicit Sampler(Keys k) : base_(mixBits(k.key ^ k.stream)), sequential_(k.key, k.stream) {}
+    Sampler(Keys k, uint64_t pass, SamplerKind kind)
+        : base_(mixBits(k.key ^ k.stream)), pixelKey_(k.key), pass_(uint32_t(pass)), kind_(kind),
+          sequential_(k.key, k.stream) {}
 
     // The (seed, pixel, pass) key is hashed once (constructor), here with the place a second
     // time (SplitMix64's finaliser): every key reaches the bits through the hash. (PCG32
@@ -99,9 +128,16 @@ private:
         uint64_t d = uint64_t(dim) | (uint64_t(repeat) << 32);
         return mixBits(base_ ^ (d * 0xD1B54A32D192ED03ULL));
     }
+    // Sobol: the seeds of a decision (the same for every pass of the pixel): the low half
+    // shuffles the index, the high half scrambles the first coordinate.
+    uint64_t sobolKey(uint32_t dim) const { return mixBits(pixelKey_ ^ (uint64_t(dim) * 0x9E6C63D0676A9A99ULL)); }
+    uint32_t sobolIndex(uint64_t key) const { return owenScramble(pass_, uint32_t(key)); }
     static float toUnit(uint64_t bits24) { return float(bits24) * 0x1p-24f; }
 
     uint64_t base_;
+    uint64_t pixelKey_;
+    uint32_t pass_;
+    SamplerKind kind_;
     Rng sequential_;
 };
 

@@ -1056,6 +1056,33 @@ def make_dusk_haze(path):
     return b.write(path)
 
 
+def make_fog_room(path):
+    """Benchmark scene for samplers and single scattering: a closed room (6 x 3 x 10 m,
+    Lambertian walls of albedo 0.5, normals inwards) in thin isotropic fog (scattering
+    0.05 /m, absorption 0.005 /m), one point light near the ceiling, the camera at one end."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=(0.0, 1.5, 1.5))
+    b.set_ambient(b.add_medium("fog", 0.05, 0.005, 0.0))
+    m_wall = b.add_material("wall", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0)
+    room = Geometry()
+    # Half extents: x 3, y 1.5 (0 to 3), z 5 (-8 to 2); each quad's normal is cross(u, v).
+    room.append(g.quad((0.0, 0.0, -3.0), (0.0, 0.0, 5.0), (3.0, 0.0, 0.0)))    # floor, +Y
+    room.append(g.quad((0.0, 3.0, -3.0), (3.0, 0.0, 0.0), (0.0, 0.0, 5.0)))    # ceiling, -Y
+    room.append(g.quad((0.0, 1.5, -8.0), (3.0, 0.0, 0.0), (0.0, 1.5, 0.0)))    # far wall, +Z
+    room.append(g.quad((0.0, 1.5, 2.0), (0.0, 1.5, 0.0), (3.0, 0.0, 0.0)))     # near wall, -Z
+    room.append(g.quad((-3.0, 1.5, -3.0), (0.0, 1.5, 0.0), (0.0, 0.0, 5.0)))   # left wall, +X
+    room.append(g.quad((3.0, 1.5, -3.0), (0.0, 0.0, 5.0), (0.0, 1.5, 0.0)))    # right wall, -X
+    inward = [(0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0)]
+    for k, n in enumerate(inward):
+        got = g.triangle_normal(room.positions, room.indices, 2 * k)
+        length = math.sqrt(sum(c * c for c in got))
+        assert all(abs(got[i] / length - n[i]) < 1e-6 for i in range(3)), (k, got)
+    b.add_node("room", mesh=b.add_mesh("room", room.positions, room.indices, normals=room.normals, uvs=room.uvs,
+                                       material=m_wall))
+    b.add_light("light", "point", (1.0, 0.9, 0.75), 30.0, translation=(0.8, 2.4, -4.0))
+    return b.write(path)
+
+
 def main():
     written = [
         make_street(os.path.join(HERE, "street.gltf")),
@@ -1063,6 +1090,8 @@ def main():
         make_fog_bench(os.path.join(HERE, "bench_thin_near.gltf"), 0.03, 0.003, (0.6, 1.8, -6.0), 20.0),
         # Dense fog, a distant light: free-flight sampling's home ground.
         make_fog_bench(os.path.join(HERE, "bench_dense_far.gltf"), 0.25, 0.01, (4.0, 4.0, -12.0), 60.0),
+        # A closed fog room lit by one point light: samplers, single and multiple scattering.
+        make_fog_room(os.path.join(HERE, "bench_fog_room.gltf")),
         # Lit-fog showcase scenes (README gallery)
         make_god_rays(os.path.join(HERE, "god_rays.gltf")),
         make_area_hall(os.path.join(HERE, "area_hall.gltf")),

@@ -53,7 +53,7 @@ std::unique_ptr<Integrator> pathTracer(int maxDepth, ConnectMode connect) {
 }
 
 std::unique_ptr<Integrator> bdpt(int maxDepth, ConnectMode connect, bool exactEquiAngular = false,
-                                 bool generalEquiAngular = false, float generalConnection = 1.0f) {
+                                 bool generalEquiAngular = false, float generalConnection = BdptOptions{}.generalConnection) {
     BdptOptions options;
     options.generalConnection = generalConnection;
     options.maxDepth = maxDepth;
@@ -92,14 +92,12 @@ const BenchMethod kMethods[] = {
      [](int d) { return bdpt(d, ConnectMode::Mis); }},
     {"bdpt:mis-exact", false, "bdpt:mis with exact equi-angular densities in the weights (a ray each)",
      [](int d) { return bdpt(d, ConnectMode::Mis, true); }},
-    {"bdpt:mis-general", false, "bdpt:mis with equi-angular variants of general connections (s, t >= 2) too",
-     [](int d) { return bdpt(d, ConnectMode::Mis, false, true); }},
-    {"bdpt:mis-p50", false, "bdpt:mis with each general connection (s, t >= 2) made with probability 1/2",
-     [](int d) { return bdpt(d, ConnectMode::Mis, false, false, 0.5f); }},
-    {"bdpt:mis-p25", false, "bdpt:mis with each general connection made with probability 1/4",
-     [](int d) { return bdpt(d, ConnectMode::Mis, false, false, 0.25f); }},
-    {"bdpt:density-p25", false, "bdpt:density with each general connection made with probability 1/4",
-     [](int d) { return bdpt(d, ConnectMode::Density, false, false, 0.25f); }},
+    {"bdpt:mis-general", false, "bdpt:mis with equi-angular variants of general connections (s, t >= 2) too, all made",
+     [](int d) { return bdpt(d, ConnectMode::Mis, false, true, 1.0f); }},
+    {"bdpt:mis-all", false, "bdpt:mis with every general connection made (s, t >= 2; default: each with probability 1/4)",
+     [](int d) { return bdpt(d, ConnectMode::Mis, false, false, 1.0f); }},
+    {"bdpt:density-all", false, "bdpt:density with every general connection made",
+     [](int d) { return bdpt(d, ConnectMode::Density, false, false, 1.0f); }},
 };
 
 constexpr const char* kReferenceMethod = "pt:mis";

@@ -224,6 +224,7 @@ TEST_CASE("cli checkpoint: damaged or mismatched checkpoints are one-line errors
     checkOneLineError(resume(ckpt, base + Args{"--max-depth", "3"}), "--max-depth");
     checkOneLineError(resume(ckpt, base + Args{"--mis", "balance"}), "--mis");
     checkOneLineError(resume(ckpt, base + Args{"--no-nee"}), "--no-nee");
+    checkOneLineError(resume(ckpt, base + Args{"--sampler", "independent"}), "--sampler");
     // Another scene file, and the same scene edited (one more space) at the same place.
     const Args other = Args{data("single_side.gltf"), "-o", dir / "out.pfm", "--resume", ckpt} + base;
     checkOneLineError(run(other), "scene file");

@@ -102,6 +102,7 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --max-depth -2", "--max-depth"},
         {data("empty.gltf") + " -o " + out + " --integrator nope", "bdpt"},
         {data("empty.gltf") + " -o " + out + " --connect sometimes", "sometimes"},
+        {data("empty.gltf") + " -o " + out + " --sampler halton", "halton"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
         {data("empty.gltf") + " -o " + quote(dir / "out"), "out"},
@@ -184,7 +185,8 @@ TEST_CASE("cli: .exr, .pfm and .png are written and read back", "[cli]") {
 
 TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
     TempDir dir;
-    for (const char* flags : {"--connect density", "--connect equiangular", "--connect mis", "--no-nee --max-depth 3"}) {
+    for (const char* flags : {"--connect density", "--connect equiangular", "--connect mis", "--no-nee --max-depth 3",
+                              "--sampler independent", "--sampler sobol --integrator pt"}) {
         INFO(flags);
         Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);
         INFO("stderr: " << r.err);

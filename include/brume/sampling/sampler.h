@@ -88,8 +88,9 @@ public:
     // from a hashed stream seeded by its dimension; repeat 0 is the dimension itself.
     float get1D(uint32_t dim, uint32_t repeat = 0) const {
         if (kind_ == SamplerKind::Sobol && repeat == 0) {
+            // owenScramble(sobolDimension0(i)) = reverse(LK(i)): two reversals fewer.
             const uint64_t h = sobolKey(dim);
-            return toUnit(owenScramble(sobolDimension0(sobolIndex(h)), uint32_t(h >> 32)) >> 8);
+            return toUnit(reverseBits(laineKarrasPermutation(sobolIndex(h), uint32_t(h >> 32))) >> 8);
         }
         return toUnit(hash(dim, repeat) >> 40);
     }
@@ -98,7 +99,7 @@ public:
         if (kind_ == SamplerKind::Sobol && repeat == 0) {
             const uint64_t h = sobolKey(dim), h2 = mixBits(h);
             const uint32_t i = sobolIndex(h);
-            return {toUnit(owenScramble(sobolDimension0(i), uint32_t(h >> 32)) >> 8),
+            return {toUnit(reverseBits(laineKarrasPermutation(i, uint32_t(h >> 32))) >> 8),
                     toUnit(owenScramble(sobolDimension1(i), uint32_t(h2)) >> 8)};
         }
         uint64_t h = hash(dim, repeat);
@@ -117,7 +118,7 @@ private:
         uint64_t key, stream;  // of (seed, pixel) and of (seed, pass)
     };
     Sampler(Keys k, uint64_t pass, SamplerKind kind)
-        : base_(mixBits(k.key ^ k.stream)), pixelKey_(k.key), pass_(uint32_t(pass)), kind_(kind),
+        : base_(mixBits(k.key ^ k.stream)), pixelKey_(k.key), passReversed_(reverseBits(uint32_t(pass))), kind_(kind),
           sequential_(k.key, k.stream) {}
 
     // The (seed, pixel, pass) key is hashed once (constructor), here with the place a second
@@ -131,12 +132,13 @@ private:
     // Sobol: the seeds of a decision (the same for every pass of the pixel): the low half
     // shuffles the index, the high half scrambles the first coordinate.
     uint64_t sobolKey(uint32_t dim) const { return mixBits(pixelKey_ ^ (uint64_t(dim) * 0x9E6C63D0676A9A99ULL)); }
-    uint32_t sobolIndex(uint64_t key) const { return owenScramble(pass_, uint32_t(key)); }
+    // The pass shuffled: owenScramble(pass) with the pass's reversal done once.
+    uint32_t sobolIndex(uint64_t key) const { return reverseBits(laineKarrasPermutation(passReversed_, uint32_t(key))); }
     static float toUnit(uint64_t bits24) { return float(bits24) * 0x1p-24f; }
 
     uint64_t base_;
     uint64_t pixelKey_;
-    uint32_t pass_;
+    uint32_t passReversed_;
     SamplerKind kind_;
     Rng sequential_;
 };

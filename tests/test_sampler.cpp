@@ -12,6 +12,7 @@
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/sampling/sampler.h"
 #include "support/pixel_estimates.h"
+#include "support/test_support.h"
 
 using namespace brume;
 using namespace brume::test;
@@ -31,15 +32,7 @@ TEST_CASE("sampler: numbers of neighbouring passes, pixels and dimensions are un
     // Pearson correlation over n pairs; independent uniforms give |r| ~ 1/√n. (Keys that
     // differed only in PCG's increment once gave r ≈ 0.3 between passes.)
     const int n = 20000;
-    auto corr = [&](auto pair) {
-        double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
-        for (int i = 0; i < n; ++i) {
-            auto [x, y] = pair(i);
-            sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y;
-        }
-        double cov = sxy / n - sx / n * sy / n;
-        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
-    };
+    auto corr = [&](auto pair) { return pearsonCorrelation(n, pair); };
     const double bound = 5.0 / std::sqrt(double(n));
     auto passes = [](int i) { return std::pair<double, double>(Sampler(1, i / 16, 0).get1D(i % 16), Sampler(1, i / 16, 1).get1D(i % 16)); };
     auto pixels = [](int i) { return std::pair<double, double>(Sampler(1, i, 2).get1D(3), Sampler(1, i + 1, 2).get1D(3)); };

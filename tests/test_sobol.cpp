@@ -109,15 +109,7 @@ TEST_CASE("sobol: each dimension is uniform over pixels and passes (chi-square)"
 
 TEST_CASE("sobol: decisions, neighbouring pixels and repeats are uncorrelated", "[sampler][sobol]") {
     const int n = 20000;
-    auto corr = [&](auto pair) {
-        double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
-        for (int i = 0; i < n; ++i) {
-            auto [x, y] = pair(i);
-            sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y;
-        }
-        double cov = sxy / n - sx / n * sy / n;
-        return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
-    };
+    auto corr = [&](auto pair) { return pearsonCorrelation(n, pair); };
     const double bound = 5.0 / std::sqrt(double(n));
     const SamplerKind k = SamplerKind::Sobol;
     // i: pixel i / 32, pass i % 32.

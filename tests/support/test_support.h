@@ -9,6 +9,7 @@
 // below the counting noise; the integral of the density over the whole domain is returned
 // as well, so a test can check that the density is normalised.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -32,6 +33,19 @@ double gammaQ(double a, double x);
 // Probability that a chi-square variable with `dof` degrees of freedom exceeds chi2.
 // dof ≤ 0 gives 1 (nothing was tested); chi2 = +∞ or NaN gives 0.
 double chiSquarePValue(double chi2, int dof);
+
+// Pearson correlation of the n pairs pair(0) … pair(n − 1) (each a std::pair of numbers);
+// independent uniforms give |r| ~ 1/√n.
+template <class Pair>
+double pearsonCorrelation(int n, Pair pair) {
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+    for (int i = 0; i < n; ++i) {
+        auto [x, y] = pair(i);
+        sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y;
+    }
+    double cov = sxy / n - sx / n * sy / n;
+    return cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+}
 
 // ---------------------------------------------------------------------------------------
 // Pearson's chi-square test

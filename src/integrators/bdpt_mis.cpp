@@ -145,34 +145,40 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
 // light vertices the camera walk would reach by passing through media (MisSettings::passFrom,
 // passFirstAt): their reverse densities then lose their free-flight factor (a medium vertex
 // at passFirstAt keeps it, and its strategy loses its free-flight variant instead), and a
-// medium vertex at passFirstAt rules out the emitter hit beyond it (s = 0). Summed afresh,
-// O(j); only the longest paths a --max-depth allows need it.
+// medium vertex at passFirstAt rules out the emitter hit beyond it (s = 0). Summed afresh for
+// every channel at once, O(j); only the longest paths a --max-depth allows need it.
 template <class Real, int N>
-Real passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k, int c, bool emitterHitOff,
-                       MisSettings st) {
+ChannelsOf<Real> passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k, bool emitterHitOff,
+                                   MisSettings st) {
+    using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
-    Real q = 0;
+    RC q(Real(0));
     for (int i = 0; i <= j; ++i) {
         const int ci = k - i;  // y_i as the camera walk's vertex
-        Real r = ratioPow<Real>(h, light[i], c);
         const bool passes = cameraWalkPasses(st, ci, light[i + 1].delta) && !(light[i].isMedium() && ci < st.passFrom);
+        double rev = -1;  // the camera walk's density without free flight (−1: the stored one serves)
         if (passes && !(i == 0 && light[0].deltaLight)) {
             // y_i made from y(i+1), which the camera walk reached from y(i+2) (i ≤ j ≤ s − 3).
             Vec3 w = light[i + 1].p - light[i].p;
             const float d = length(w);
             w = d > 0 ? w / d : Vec3(0.0f);
-            const double rev = solidAngleToArea(
+            rev = solidAngleToArea(
                 light[i], w, vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, st.width, st.height),
                 d);
-            r = misPower(h, Real(remap0(rev)) / Real(remap0(light[i].pdfFwd[c])));
         }
         const bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
         const bool on = !light[i].delta && !deltaBefore && !(i == 0 && emitterHitOff);
-        Real V = on ? Sums<Real>::variant(light[i])[c] : Real(0);
-        if (on && i >= 1 && ci == st.passFirstAt)
-            V = variantFactor<Real, N>(scene, light[i + 1], light[i], light[i - 1], i == 1, i >= 2, light[i + 1].edgeCrossed,
-                                       st, nullptr, true)[c];
-        q = r * (V + q);
+        RC V(Real(0));
+        if (on)
+            V = i >= 1 && ci == st.passFirstAt
+                    ? variantFactor<Real, N>(scene, light[i + 1], light[i], light[i - 1], i == 1, i >= 2,
+                                             light[i + 1].edgeCrossed, st, nullptr, true)
+                    : Sums<Real>::variant(light[i]);
+        for (int c = 0; c < N; ++c) {
+            const Real r = rev >= 0 ? misPower(h, Real(remap0(rev)) / Real(remap0(light[i].pdfFwd[c])))
+                                    : ratioPow<Real>(h, light[i], c);
+            q[c] = r * (V[c] + q[c]);
+        }
     }
     return q;
 }
@@ -234,6 +240,10 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // numerator of its weight, and a factor of its own terms (ownV has it already).
     const Real ownCount =
         s >= 2 && t >= 2 && st.generalConnection != 1.0 ? misPower(h, Real(st.generalConnection)) : Real(1);
+    // The light prefix P(s − 3), summed afresh where the camera walk passes through media at
+    // the indices of its vertices (passedLightPrefix).
+    const bool passedPrefix = s >= 3 && (k >= st.passFrom || k == st.passFirstAt || k == st.passFirstAt + 1);
+    const RC passedQ = passedPrefix ? passedLightPrefix<Real, N>(scene, light, s - 3, k, emitterHitOff, st) : RC(Real(0));
     Real total = 0;
     for (int c = 0; c < N; ++c) {
         // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
@@ -260,10 +270,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
         // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
         // y(s−1) is an equi-angular camera connection's.
-        const bool passedPrefix = k >= st.passFrom || k == st.passFirstAt || k == st.passFirstAt + 1;
-        Real q = s - 3 >= 0 ? (passedPrefix ? passedLightPrefix<Real, N>(scene, light, s - 3, k, c, emitterHitOff, st)
-                                            : Sums<Real>::prefix(light[s - 3], c))
-                            : Real(0);
+        Real q = s - 3 >= 0 ? (passedPrefix ? passedQ[c] : Sums<Real>::prefix(light[s - 3], c)) : Real(0);
         for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
             int slot = i - (s - 2);
             q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : Real(0)) + q);

@@ -46,8 +46,8 @@ struct BdptOptions {
     bool generalEquiAngular = false;
     // Probability with which each general connection (s, t ≥ 2) is made (probabilistic
     // connections: a made one counts 1/p, and the weights see every general strategy's
-    // density times p). 1: every pair of subpath vertices is joined. 1/4 was 1.1-2.2x as
-    // efficient as 1 on 12 of the 14 bench scenes (docs/results.md).
+    // density times p). 1: every pair of subpath vertices is joined. 1/4 was more efficient
+    // than 1 on 12 of the 14 bench scenes, for --connect density and mis (docs/results.md).
     float generalConnection = 0.25f;
     const BdptObserver* observer = nullptr;
 };

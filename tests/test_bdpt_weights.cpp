@@ -13,6 +13,7 @@
 #include <mutex>
 
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
@@ -42,7 +43,9 @@ struct Checker : BdptObserver {
     bool exact = false;  // exact equi-angular densities (BdptOptions::exactEquiAngular)
     bool general = false;  // general connections have equi-angular variants (BdptOptions::generalEquiAngular)
     int maxDepth = 4;      // BdptOptions::maxDepth
-    double connectP = 1;   // BdptOptions::generalConnection
+    double connectP = 1;   // BdptOptions::generalConnection (0 without light subpaths)
+    double cameraCount = 1;  // camera connections made per sample (0: no light tracing or no light subpaths)
+    bool eaLight = true, eaCamera = true;  // BdptOptions::equiAngularLight, equiAngularCamera
     mutable std::mutex mutex;
     mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
@@ -200,7 +203,7 @@ struct Checker : BdptObserver {
         // light, no invisible boundary): it reaches a surface there with free-flight density 1
         // and never makes a medium vertex there.
         const int m = maxDepth;
-        const bool lastPasses = connect != ConnectMode::Density && m >= 1 && m <= k && !scene->hasInvisibleBoundaries() &&
+        const bool lastPasses = connect != ConnectMode::Density && eaLight && m >= 1 && m <= k && !scene->hasInvisibleBoundaries() &&
                                 !scene->hasDirectionalLights() && !(x[m - 1].isSurface() && x[m - 1].delta);
         if (lastPasses && !x[m].isMedium()) fwd[m] = dirPdf(x, m - 1, m - 2, m) * stepFactor(x, m - 1, m, true);
         const bool lastMediumUnmade = lastPasses && x[m].isMedium();
@@ -238,9 +241,9 @@ struct Checker : BdptObserver {
             if (!valid) continue;
             // Free-flight and equi-angular variants of the strategy.
             WideChannels rho(0.0L);
-            if (connect != ConnectMode::Density && tt >= 2 && (ss == 1 || (ss >= 2 && general)))
+            if (connect != ConnectMode::Density && tt >= 2 && ((ss == 1 && eaLight) || (ss >= 2 && general)))
                 rho = equiAngularRatio(x, tt - 1, true);
-            if (connect != ConnectMode::Density && tt == 1 && k >= 2) rho = cameraEquiAngularRatio(x);
+            if (connect != ConnectMode::Density && eaCamera && tt == 1 && k >= 2) rho = cameraEquiAngularRatio(x);
             for (int c = 0; c < channels; ++c) {
                 long double prod = 1;
                 for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i][c]);
@@ -249,6 +252,8 @@ struct Checker : BdptObserver {
                 if (lastMediumUnmade && tt - 1 >= m) ffOn = false;  // the camera walk cannot make x(m)
                 // A general connection is made with probability connectP: its densities count that much.
                 if (tt >= 2 && ss >= 2) prod *= connectP;
+                // A camera connection is made cameraCount times (1 or 0).
+                if (tt == 1) prod *= cameraCount;
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
                 sum += termFf + termEa;
                 if (tt == t && c == hero) self = equiAngular ? termEa : termFf;
@@ -290,7 +295,7 @@ struct Checker : BdptObserver {
 namespace {
 
 void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
-                  bool general = false, float connectP = 1) {
+                  bool general = false, float connectP = 1, const BdptAllocation* allocation = nullptr) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
@@ -305,6 +310,13 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         opt.exactEquiAngular = exact;
         opt.generalEquiAngular = general;
         opt.generalConnection = connectP;
+        if (allocation) {
+            allocation->applyTo(opt);
+            checker.connectP = allocation->lightSubpaths ? allocation->generalConnection : 0;
+            checker.cameraCount = allocation->lightSubpaths && allocation->lightTracing ? 1 : 0;
+            checker.eaLight = allocation->equiAngularLight;
+            checker.eaCamera = allocation->equiAngularCamera;
+        }
         opt.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
@@ -312,7 +324,8 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         o.spp = spp;
         o.seed = 3;
         render(*scene, BdptIntegrator(opt), o, film);
-        INFO(file << (h == MisHeuristic::Power ? " power" : " balance") << ": " << checker.paths
+        INFO(file << (h == MisHeuristic::Power ? " power" : " balance") << (allocation ? " " + allocation->name() : "")
+                  << ": " << checker.paths
                   << " weighted paths, worst |w − w_expected| = " << checker.worst << " (" << checker.worstInfo << ")");
         CHECK(checker.paths > 100);
         CHECK(checker.worst < checker.worstTolerance);
@@ -383,4 +396,20 @@ TEST_CASE("bdpt MIS weights through an invisible boundary", "[bdpt][mis]") {
     checkWeights("bdpt_quad_fogbox.gltf", 4);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::Mis);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::EquiAngular);
+}
+
+// Every allocation the efficiency-aware tracer may choose (bdpt_allocation.h): strategies
+// switched off (light tracing, equi-angular variants, light subpaths altogether) and unequal
+// counts (general connections with probability 0, 1/4 or 1). The weights of the strategies
+// left must still be the heuristic over exactly those, with their counts.
+TEST_CASE("bdpt MIS weights under every candidate allocation", "[bdpt][mis][allocation]") {
+    for (const BdptAllocation& a : candidateAllocations(ConnectMode::Mis)) {
+        checkWeights("quad_light_fog.gltf", 4, ConnectMode::Mis, false, false, 1, &a);
+        checkWeights("bdpt_glass_sphere.gltf", a.lightSubpaths ? 16 : 64, ConnectMode::Mis, false, false, 1, &a);
+    }
+    for (const BdptAllocation& a : candidateAllocations(ConnectMode::Density))
+        checkWeights("area_sphere.gltf", 4, ConnectMode::Density, false, false, 1, &a);
+    const std::vector<BdptAllocation> all = candidateAllocations(ConnectMode::Mis);
+    for (const BdptAllocation& a : {all[0], all[2], all.back()})
+        checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::Mis, false, false, 1, &a);
 }

@@ -29,6 +29,7 @@
 #include "brume/cli/build_identity.h"
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
+#include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/film/film.h"
@@ -75,9 +76,20 @@ struct BenchChoice {
     const BenchMethod* method;
     SamplerKind sampler;
     std::string name;
+    std::string allocation;  // bdpt@NAME: bdpt:mis with one of auto's candidate allocations
 };
 
+std::unique_ptr<Integrator> efficiencyAware(int maxDepth) {
+    BdptOptions options;
+    options.maxDepth = maxDepth;
+    options.connect = ConnectMode::Mis;
+    options.efficiencyAware = true;
+    return std::make_unique<BdptIntegrator>(options);
+}
+
 const BenchMethod kMethods[] = {
+    {"auto", true, "the efficiency-aware bidirectional tracer (the default of brume render), pilot included",
+     efficiencyAware},
     {"pt:density", true, "path tracer, light connections from the free-flight point",
      [](int d) { return pathTracer(d, ConnectMode::Density); }},
     {"pt:equiangular", true, "path tracer, equi-angular light connections",
@@ -119,7 +131,8 @@ std::string methodNames() {
 // "pt:mis" → "pt_mis": the method's image file name without extension.
 std::string methodFileStem(const std::string& name) {
     std::string stem = name;
-    std::replace(stem.begin(), stem.end(), ':', '_');
+    for (char& c : stem)
+        if (c == ':' || c == ' ' || c == '@' || c == '=' || c == '+') c = '_';
     return stem;
 }
 
@@ -189,6 +202,12 @@ const BenchMethod* namedMethod(const std::string& what, const std::string& name)
 // A method as --methods names it: METHOD, or METHOD:SAMPLER (sobol, the default, or
 // independent), e.g. pt:mis:independent.
 BenchChoice namedChoice(const std::string& what, const std::string& item) {
+    if (item.rfind("bdpt@", 0) == 0) {
+        BdptAllocation allocation;
+        if (!allocationNamed(item.substr(5), ConnectMode::Mis, &allocation))
+            throw UsageError(what + ": unknown allocation '" + item.substr(5) + "' (brume render --stats lists them)");
+        return BenchChoice{namedMethod(what, "bdpt:mis"), SamplerKind::Sobol, item, allocation.name()};
+    }
     for (const char* suffix : {":independent", ":sobol"}) {
         const size_t n = std::strlen(suffix);
         if (item.size() > n && item.compare(item.size() - n, n, suffix) == 0) {
@@ -611,6 +630,15 @@ int runBench(const std::vector<std::string>& argv) {
         for (const BenchChoice& choice : a.methods) {
             const BenchChoice* method = &choice;
             std::unique_ptr<Integrator> integrator = choice.method->make(a.maxDepth);
+            if (!choice.allocation.empty()) {
+                BdptOptions options;
+                options.maxDepth = a.maxDepth;
+                options.connect = ConnectMode::Mis;
+                BdptAllocation allocation;
+                allocationNamed(choice.allocation, ConnectMode::Mis, &allocation);
+                allocation.applyTo(options);
+                integrator = std::make_unique<BdptIntegrator>(options);
+            }
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;

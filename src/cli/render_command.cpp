@@ -17,6 +17,7 @@
 
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
+#include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
@@ -32,7 +33,9 @@ namespace {
 struct RenderArgs {
     std::string scene;
     std::string output;
-    std::string integrator = "bdpt";
+    std::string integrator = "auto";
+    std::string allocation;  // --allocation NAME (bdpt)
+    bool stats = false;      // --stats
     int spp = 16;
     bool sppGiven = false;
     double seconds = 0;
@@ -76,8 +79,17 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addSceneArgument(app, a.scene);
     addOption(app, "-o,--output", "OUT", "output image (required)",
               [&](const std::string& v) { a.output = nonEmptyFile("--output", v); });
-    addOption(app, "--integrator", "NAME", "bdpt (bidirectional path tracer; the default) or pt (volumetric path tracer)",
+    addOption(app, "--integrator", "NAME",
+              "auto (the default: the bidirectional path tracer choosing its strategies and their sample counts "
+              "from pilot passes), bdpt (bidirectional path tracer, every strategy on) or pt (volumetric path tracer)",
               [&](const std::string& v) { a.integrator = v; });
+    addOption(app, "--allocation", "NAME",
+              "bdpt: render with this one of auto's candidate allocations (names as --stats lists them, e.g. "
+              "'pt+ea' or 'bdpt lt p=0.25 ea=LC')",
+              [&](const std::string& v) { a.allocation = v; });
+    app.add_flag_callback("--stats", [&] { a.stats = true; },
+                          "auto: after the summary line, every candidate allocation's estimated relative variance, "
+                          "cost and efficiency");
     addOption(app, "--mis", "HEURISTIC", "bdpt: power (the default) or balance", [&](const std::string& v) {
         if (v == "power") a.heuristic = MisHeuristic::Power;
         else if (v == "balance") a.heuristic = MisHeuristic::Balance;
@@ -138,10 +150,19 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
 
     if (a.scene.empty()) throw UsageError("render: no scene file given");
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
-    if (a.integrator != "pt" && a.integrator != "bdpt")
-        throw UsageError("unknown integrator '" + a.integrator + "' (available: pt, bdpt)");
+    if (a.integrator != "pt" && a.integrator != "bdpt" && a.integrator != "auto")
+        throw UsageError("unknown integrator '" + a.integrator + "' (available: auto, bdpt, pt)");
+    if (!a.allocation.empty()) {
+        if (a.integrator != "bdpt") throw UsageError("--allocation needs --integrator bdpt");
+        BdptAllocation chosen;
+        if (!allocationNamed(a.allocation, a.connect, &chosen)) {
+            std::string names;
+            for (const BdptAllocation& c : candidateAllocations(a.connect)) names += (names.empty() ? "'" : ", '") + c.name() + "'";
+            throw UsageError("--allocation: unknown allocation '" + a.allocation + "' (available: " + names + ")");
+        }
+    }
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
-    if (!a.strategyDir.empty() && a.integrator != "bdpt") throw UsageError("--strategy-images needs --integrator bdpt");
+    if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
     // Checkpoints are for a planned number of passes: a time budget has no fixed end to resume to.
     if (a.checkpointEveryGiven && a.checkpoint.empty()) throw UsageError("--checkpoint-every needs --checkpoint FILE");
@@ -237,6 +258,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
             {"--sampler", samplerName(a.sampler)},
             {"--spp", std::to_string(a.spp)},
             {"--integrator", a.integrator},
+            {"--allocation", a.allocation},
             {"--connect", connectName(a.connect)},
             {"--max-depth", std::to_string(a.maxDepth)},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
@@ -289,8 +311,14 @@ int runRender(const std::vector<std::string>& argv) {
     bdptOptions.maxDepth = a.maxDepth;
     bdptOptions.heuristic = a.heuristic;
     bdptOptions.connect = a.connect;
+    if (!a.allocation.empty()) {
+        BdptAllocation chosen;
+        allocationNamed(a.allocation, a.connect, &chosen);
+        chosen.applyTo(bdptOptions);
+    }
+    bdptOptions.efficiencyAware = a.integrator == "auto";
     std::unique_ptr<Integrator> integratorPtr;
-    if (a.integrator == "bdpt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
+    if (a.integrator != "pt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);
     Integrator& integrator = *integratorPtr;
 
@@ -304,6 +332,11 @@ int runRender(const std::vector<std::string>& argv) {
     if (resumed) {
         checkResumable(a.resume, *resumed, settings, res, a.spp);
         film = std::move(resumed->film);
+        try {
+            integrator.loadState(resumed->integratorState);
+        } catch (const std::exception& e) {
+            throw std::runtime_error(a.resume + ": corrupt checkpoint (" + e.what() + ")");
+        }
         earlierNonFinite = resumed->nonFinite;
         resumed.reset();
         std::fprintf(stderr, "brume: resuming %s at pass %d of %d\n", a.resume.c_str(), film.passes(), a.spp);
@@ -330,7 +363,7 @@ int runRender(const std::vector<std::string>& argv) {
         if (a.checkpoint.empty() || gInterrupted.load() || f.passes() >= a.spp) return;
         if (secondsSince(lastSave) < a.checkpointEvery) return;
         try {
-            writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + s.nonFinite);
+            writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + s.nonFinite, integrator.saveState());
         } catch (const std::exception& e) {
             std::fprintf(stderr, "brume: warning: %s\n", e.what());
         }
@@ -358,7 +391,7 @@ int runRender(const std::vector<std::string>& argv) {
     const bool complete = a.seconds > 0 || film.passes() >= a.spp;
     if (!a.checkpoint.empty() && !complete) {
         try {
-            writeCheckpoint(a.checkpoint, scenePath, settings, film, nonFinite);
+            writeCheckpoint(a.checkpoint, scenePath, settings, film, nonFinite, integrator.saveState());
         } catch (...) {
             checkpointError = std::current_exception();
         }
@@ -366,6 +399,12 @@ int runRender(const std::vector<std::string>& argv) {
     writeImage(a.output, res.width, res.height, film.rgb());
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
+    // With auto, the strategy images are those of the allocation it chose.
+    const AllocationPlanner* planner = a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;
+    if (planner) {
+        planner->chosen().applyTo(bdptOptions);
+        bdptOptions.efficiencyAware = false;
+    }
     if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
@@ -373,6 +412,7 @@ int runRender(const std::vector<std::string>& argv) {
                 a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
+    if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     std::fflush(stdout);
     if (gInterrupted.load()) {
         std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));

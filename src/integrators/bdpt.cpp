@@ -1,8 +1,10 @@
 #include "brume/integrators/bdpt.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
+#include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt_strategies.h"
 #include "brume/integrators/bdpt_subpaths.h"
 #include "brume/integrators/sample_dimensions.h"
@@ -27,6 +29,31 @@ struct Subpaths {
 
 }  // namespace
 
+BdptIntegrator::BdptIntegrator(BdptOptions options) : options_(options) {
+    if (options_.efficiencyAware) {
+        planner_ = std::make_unique<AllocationPlanner>(options_.connect);
+        planner_->allocationFor(0).applyTo(options_);
+    }
+}
+
+BdptIntegrator::~BdptIntegrator() = default;
+
+void BdptIntegrator::beginPass(const Scene&, int pass) {
+    if (!planner_) return;
+    planner_->allocationFor(pass).applyTo(options_);
+    collecting_ = planner_->collects(pass);
+}
+
+std::string BdptIntegrator::saveState() const { return planner_ ? planner_->saveState() : std::string(); }
+
+void BdptIntegrator::loadState(const std::string& state) {
+    if (!planner_) {
+        if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
+        return;
+    }
+    planner_->loadState(state);
+}
+
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
                                           Sampler& sampler, PathStats& stats, SplatList& splats) const {
     thread_local Subpaths paths;
@@ -45,26 +72,42 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // weight T, and the in-scattering comes from the connections alone. (Not past invisible
     // boundaries, where a medium vertex has no equi-angular variant.)
     const int passFirstAt = limited && maxScatter >= 1 && options_.connect != ConnectMode::Density &&
-                                    !scene.hasInvisibleBoundaries() && !scene.hasDirectionalLights()
+                                    options_.equiAngularLight && !options_.efficiencyAware && !scene.hasInvisibleBoundaries() &&
+                                    !scene.hasDirectionalLights()
                                 ? maxScatter
                                 : 1 << 30;
     // In coloured media both walks sample distances with one hero channel, drawn uniformly;
     // the weights are taken over the channels as well as the strategies (bdpt_mis.h).
     const int channels = scene.mediumChannels();
     const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
+    const uint64_t rays0 = stats.rays;
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
                                           camera, stats);
-    const int nLight = traceLightSubpath(scene, maxScatter, hero, sampler, light, stats);
+    const uint64_t rays1 = stats.rays;
+    const int nLight = options_.lightSubpaths ? traceLightSubpath(scene, maxScatter, hero, sampler, light, stats) : 0;
+    stats.counters[kCameraWalkRays] += rays1 - rays0;
+    stats.counters[kLightWalkRays] += stats.rays - rays1;
 
     const bool weighted = options_.onlyS < 0 || options_.weighted;
-    const MisSettings mis{options_.heuristic, options_.connect,       options_.exactEquiAngular,
-                          options_.generalEquiAngular, options_.generalConnection, width, height, channels, hero,
-                          passFrom, passFirstAt};
+    MisSettings mis{options_.heuristic, options_.connect,       options_.exactEquiAngular,
+                    options_.generalEquiAngular, options_.generalConnection, width, height, channels, hero,
+                    passFrom, passFirstAt};
+    mis.generalConnection = options_.lightSubpaths ? options_.generalConnection : 0.0;
+    mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? 1.0 : 0.0;
+    mis.equiAngularLight = options_.equiAngularLight;
+    mis.equiAngularCamera = options_.equiAngularCamera;
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);
     }
-    const StrategyContext c{scene, options_, mis, camera, nCamera, light, nLight, weighted, sampler, stats, width, height};
+    // The efficiency-aware tracer's statistics passes: every second pixel records its
+    // contributions, whose second moments under each candidate are summed after the sample.
+    const int px = int(fx), py = int(fy);
+    const bool collect = collecting_ && weighted && AllocationPlanner::collectsPixel(px, py);
+    thread_local std::vector<WeightRecord> records;
+    records.clear();
+    const StrategyContext c{scene,  options_, mis,   camera, nCamera, light, nLight, weighted,
+                            sampler, stats,   width, height, collect ? &records : nullptr};
 
     Spectrum L(0.0f);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
@@ -76,6 +119,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
         for (int s = 0; s <= std::max(nLight, 1) + (anyEquiAngular && t == 1 ? 1 : 0); ++s) {
             if (s == 0 && t < 2) continue;
+            if (t == 1 ? mis.cameraConnection == 0 : s >= 2 && mis.generalConnection == 0) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
             if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
             // Past the camera walk's end only an equi-angular variant has a vertex: the light
@@ -95,10 +139,14 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             }
         }
     }
+    if (collect)
+        accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
+                          std::min(px, width - 1), std::min(py, height - 1), stats.sums);
     return L;
 }
 
 void BdptIntegrator::endPass(const Scene&, const PassSummary& summary) {
+    if (planner_) planner_->endPass(summary);
     if (!summary.complete) return;
     for (int k = 0; k < 4; ++k) {
         lastPass_.freeFlight[k] = summary.totals.counters[strategyCounter(StrategyKind(k), false)];

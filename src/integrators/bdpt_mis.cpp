@@ -87,8 +87,13 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
                            bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho,
                            bool freeFlightOff = false) {
     using RC = ChannelsOf<Real>;
+    // The strategy's kind: a general connection, a light connection (s = 1: the anchor ends
+    // the path) or a camera connection (t = 1), and whether the allocation gives it an
+    // equi-angular variant.
+    const bool cameraConnection = !general && !anchorEndsPath;
+    const bool eaAllowed = general ? st.generalEquiAngular : anchorEndsPath ? st.equiAngularLight : st.equiAngularCamera;
     RC r(Real(0));
-    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed && (!general || st.generalEquiAngular))
+    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed && eaAllowed)
         r = equiAngularRatio<Real, N>(scene, prev, v, anchor, anchorEndsPath, st);
     if (rho) *rho = r;
     RC V(Real(1));
@@ -97,8 +102,10 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
         bool ffOn = !((st.connect == ConnectMode::EquiAngular || freeFlightOff) && eaOn);
         V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
-    // A general connection is made with probability p: its densities count p times.
-    if (general && st.generalConnection != 1.0) V *= misPower(st.heuristic, Real(st.generalConnection));
+    // A general connection is made with probability p: its densities count p times; a camera
+    // connection as often as the allocation makes it (0 or 1).
+    const double count = general ? st.generalConnection : cameraConnection ? st.cameraConnection : 1.0;
+    if (count != 1.0) V *= misPower(st.heuristic, Real(count));
     return V;
 }
 
@@ -118,7 +125,7 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
             // the strategy is a general connection.)
             const RC V = j >= 2 ? variantFactor<Real, N>(scene, path[j - 2], path[j - 1], path[j], false, true, path[j - 1].edgeCrossed, st, nullptr)
                          : n >= 3   ? variantFactor<Real, N>(scene, path[2], path[1], path[0], false, false, path[2].edgeCrossed, st, nullptr)
-                                    : RC(Real(1));
+                                    : RC(misPower(h, Real(st.cameraConnection)));
             Sums<Real>::setVariant(path[j], V);
             const bool on = !path[j].delta && !path[j - 1].delta;
             for (int c = 0; c < N; ++c)
@@ -185,7 +192,7 @@ ChannelsOf<Real> passedLightPrefix(const Scene& scene, const PathVertex* light, 
 
 template <class Real, int N>
 double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                   bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity) {
+                   bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity, double* perCount) {
     using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
     const int k = s + t - 1;  // vertices x0 … xk
@@ -202,7 +209,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
                                           tt - 1 == st.passFirstAt);
         if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, false, crossed(2), st, rho);
         if (rho) *rho = RC(Real(0));
-        return RC(Real(1));
+        return RC(tt == 1 ? misPower(h, Real(st.cameraConnection)) : Real(1));
     };
     // The V terms next to the connection, per channel (each may cost an equi-angular density).
     RC rhoOwn(Real(0));
@@ -236,10 +243,11 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
     const Channels own = s >= 1 ? camera[t - 1].channelRatio * light[s - 1].channelRatio : camera[t - 1].channelRatio;
 
-    // The own strategy's count (a general connection is made with probability p): the
-    // numerator of its weight, and a factor of its own terms (ownV has it already).
-    const Real ownCount =
-        s >= 2 && t >= 2 && st.generalConnection != 1.0 ? misPower(h, Real(st.generalConnection)) : Real(1);
+    // The own strategy's count (a general connection is made with probability p, a camera
+    // connection 0 or 1 times): the numerator of its weight, and a factor of its own terms
+    // (ownV has it already). Its equi-angular variant's count is 1 or 0 on top of that.
+    const Real ownCount = misPower(h, Real(s >= 2 && t >= 2 ? st.generalConnection : t == 1 ? st.cameraConnection : 1.0));
+    const bool ownEaAllowed = t == 1 ? st.equiAngularCamera : s == 1 ? st.equiAngularLight : st.generalEquiAngular;
     // The light prefix P(s − 3), summed afresh where the camera walk passes through media at
     // the indices of its vertices (passedLightPrefix).
     const bool passedPrefix = s >= 3 && (k >= st.passFrom || k == st.passFirstAt || k == st.passFirstAt + 1);
@@ -252,8 +260,8 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // one 1/ρ.
         Real sum = ownV[c];
         if (ownEquiAngular) {
-            bool ffOn = st.connect != ConnectMode::EquiAngular && t - 1 != st.passFirstAt;
-            sum = ownCount * (Real(1) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0)));
+            bool ffOn = !(st.connect == ConnectMode::EquiAngular && ownEaAllowed) && t - 1 != st.passFirstAt;
+            sum = ownCount * (Real(ownEaAllowed ? 1 : 0) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0)));
         }
         // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
         // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
@@ -282,6 +290,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         total += misPower(h, Real(own[c])) * sum;
     }
     // One channel of st.channels was drawn: the estimate is divided by its probability.
+    if (perCount) *perCount = total > 0 ? double(N / total) : double(kInfinity);
     return total > 0 ? double(N * ownCount / total) : 0.0;
 }
 
@@ -293,11 +302,11 @@ void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, M
 }
 
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                 bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity) {
+                 bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity, double* perCount) {
     return st.channels == 1 ? misWeightIn<double, 1>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
-                                                     ownEquiAngularDensity)
+                                                     ownEquiAngularDensity, perCount)
                             : misWeightIn<long double, 3>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
-                                                          ownEquiAngularDensity);
+                                                          ownEquiAngularDensity, perCount);
 }
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)
@@ -364,7 +373,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 }
 
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
-                      MisSettings st) {
+                      MisSettings st, double* perCount) {
     // The four densities are the subpaths' own outside this connection: put them back after.
     Channels saved[4];
     PathVertex* touched[4] = {&camera[t - 1], t >= 2 ? &camera[t - 2] : nullptr, s >= 1 ? &light[s - 1] : nullptr,
@@ -372,7 +381,7 @@ double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* 
     for (int i = 0; i < 4; ++i)
         if (touched[i]) saved[i] = touched[i]->pdfRev;
     connectionReverseDensities(scene, light, s, camera, t, join, st);
-    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed, join.ownEquiAngularDensity);
+    double w = misWeight(scene, light, camera, s, t, st, join.equiAngular, join.crossed, join.ownEquiAngularDensity, perCount);
     for (int i = 0; i < 4; ++i)
         if (touched[i]) touched[i]->pdfRev = saved[i];
     return w;

@@ -147,6 +147,37 @@ Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, 
     return value;
 }
 
+// Attributes the rays traced while it lives to a PathStats counter (rayCounter).
+class RayMeter {
+public:
+    RayMeter(PathStats& stats, int counter) : stats_(stats), counter_(counter), start_(stats.rays) {}
+    ~RayMeter() { stats_.counters[counter_] += stats_.rays - start_; }
+
+private:
+    PathStats& stats_;
+    int counter_;
+    uint64_t start_;
+};
+
+// While statistics are gathered: the contribution `value` (unweighted, for one sample of the
+// strategy) with what its weight can be recomputed from under another allocation.
+void record(const StrategyContext& c, const PathVertex* lightVertex, int s, int t, const StrategyJoin& join,
+            Spectrum value, int x = -1, int y = -1) {
+    if (!c.records) return;
+    c.records->emplace_back();
+    WeightRecord& r = c.records->back();
+    r.s = s;
+    r.t = t;
+    r.join = join;
+    r.value = value;
+    r.x = x;
+    r.y = y;
+    r.moved = join.equiAngular;
+    if (r.moved) r.vertex = t >= 2 ? c.camera[t - 1] : c.light[s - 1];
+    r.hasLightVertex = s == 1;
+    if (s == 1) r.lightVertex = *lightVertex;
+}
+
 // The weight of the joined sample, told to the observer; 1 when unweighted.
 float weigh(const StrategyContext& c, PathVertex* light, int s, int t, const StrategyJoin& join) {
     if (!c.weighted) return 1.0f;
@@ -163,6 +194,7 @@ Spectrum emitterHit(const StrategyContext& c, int t) {
     Spectrum contrib = z.beta * emitted(c.scene, z, z.wo);
     if (isBlack(contrib)) return contrib;
     float w = weigh(c, c.light, 0, t, StrategyJoin{});
+    record(c, nullptr, 0, t, StrategyJoin{}, contrib);
     return std::isfinite(w) ? counted(c, StrategyKind::EmitterHit, false, contrib * w) : Spectrum(0.0f);
 }
 
@@ -176,13 +208,14 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     const Sample2 uLight = lightPointNumbers(l, c.sampler, dims + dim::kLightPoint, 0);
     const PathVertex& zPrev = c.camera[t - 2];
     Vec3 anchor;
-    const bool eaOn = c.mis.connect != ConnectMode::Density && c.camera[t - 1].edgeMedium && !zPrev.delta &&
-                      equiAngularAnchor(scene, l, uLight, &anchor);
+    const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
+                      !zPrev.delta && equiAngularAnchor(scene, l, uLight, &anchor);
     const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        RayMeter meter(c.stats, rayCounter(StrategyKind::LightConnection, ea));
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
         double pea = 0;
@@ -217,7 +250,9 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             float pos, dir;
             emissionPdf(scene, l, p, n, -ls.wi, &pos, &dir);
             PathVertex y0 = makeLightVertex(scene, li, pick, p, n, pos);
-            w = weigh(c, &y0, 1, t, joinOf(conn, ea, pea));
+            const StrategyJoin join = joinOf(conn, ea, pea);
+            w = weigh(c, &y0, 1, t, join);
+            record(c, &y0, 1, t, join, contrib);
         }
         if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
     }
@@ -230,12 +265,14 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
     const bool real = s <= c.nLight;
     const PathVertex& edge = c.light[s - 1];
     const PathVertex* yPrev = s >= 2 ? &c.light[s - 2] : nullptr;
-    const bool eaOn = c.mis.connect != ConnectMode::Density && yPrev && edge.edgeMedium && !yPrev->delta && (real || edge.ghost);
+    const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularCamera && yPrev && edge.edgeMedium &&
+                      !yPrev->delta && (real || edge.ghost);
     const bool ffOn = real && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
                       !(c.mis.connect == ConnectMode::EquiAngular && eaOn && edge.isMedium() && !edge.edgeCrossed);
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        RayMeter meter(c.stats, rayCounter(StrategyKind::CameraConnection, ea));
         // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
         // point light), within the view frustum.
         VertexSwap swap;
@@ -260,7 +297,9 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         const float cosCam = dot(-toCam, cam.forward);
         Spectrum value = y.beta * f * conn.T * (cc.We * cosCam / (cc.dist * cc.dist));
         if (isBlack(value)) continue;
-        float w = weigh(c, c.light, s, 1, joinOf(conn, ea, pea));
+        const StrategyJoin join = joinOf(conn, ea, pea);
+        float w = weigh(c, c.light, s, 1, join);
+        record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
         if (std::isfinite(w)) splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * w), c.width, c.height);
     }
 }
@@ -280,6 +319,7 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
+        RayMeter meter(c.stats, rayCounter(StrategyKind::SubpathConnection, ea));
         // The equi-angular variant: z(t−1) on its ray, towards y(s−1).
         VertexSwap swap;
         double pea = 0;
@@ -298,7 +338,9 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
         if (isBlack(conn.T)) continue;
         Spectrum contrib = z.beta * fz * conn.T * fy * y.beta / (dist * dist);
         if (isBlack(contrib)) continue;
-        float weight = weigh(c, c.light, s, t, joinOf(conn, ea, pea));
+        const StrategyJoin join = joinOf(conn, ea, pea);
+        float weight = weigh(c, c.light, s, t, join);
+        record(c, nullptr, s, t, join, contrib);
         if (std::isfinite(weight)) L += counted(c, StrategyKind::SubpathConnection, ea, contrib * (weight / p));
     }
     return L;

@@ -149,7 +149,7 @@ struct FileCloser {
 }  // namespace
 
 void writeCheckpoint(const std::string& path, const std::string& scenePath, const CheckpointSettings& settings,
-                     const Film& film, uint64_t nonFinite) {
+                     const Film& film, uint64_t nonFinite, const std::string& integratorState) {
     const std::string tmp = temporaryPathFor(path);
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) fail(path, std::string("cannot write checkpoint: ") + std::strerror(errno));
@@ -167,8 +167,10 @@ void writeCheckpoint(const std::string& path, const std::string& scenePath, cons
     w.i32(film.passes());
     w.u64(nonFinite);
     w.u8(film.hasSplats() ? 1 : 0);
+    w.u64(integratorState.size());
     w.doubles(film.sampleSums());
     if (film.hasSplats()) w.doubles(film.splatSums());
+    w.bytes(integratorState.data(), integratorState.size());
     w.u64(w.hash());
 
     int error = w.error();
@@ -210,6 +212,7 @@ Checkpoint readCheckpoint(const std::string& path) {
     int32_t width = r.i32(), height = r.i32(), passes = r.i32();
     uint64_t nonFinite = r.u64();
     uint8_t hasSplats = r.u8();
+    uint64_t stateBytes = r.u64();
     if (width <= 0 || height <= 0 || passes < 0 || hasSplats > 1)
         fail(path, "corrupt checkpoint (film " + std::to_string(width) + "x" + std::to_string(height) + ", " +
                        std::to_string(passes) + " passes)");
@@ -217,17 +220,20 @@ Checkpoint readCheckpoint(const std::string& path) {
     // damaged header cannot ask for gigabytes.
     const uint64_t values = 3 * uint64_t(width) * uint64_t(height);
     const uint64_t expected = 8 * values * (hasSplats ? 2 : 1) + 8;
-    if (r.remaining() != expected)
+    if (stateBytes > r.remaining()) fail(path, "truncated checkpoint");
+    if (r.remaining() - stateBytes != expected)
         fail(path, r.remaining() < expected ? "truncated checkpoint" : "corrupt checkpoint (trailing bytes)");
     std::vector<double> sums = r.doubles(size_t(values));
     std::vector<double> splats;
     if (hasSplats) splats = r.doubles(size_t(values));
+    std::string state(size_t(stateBytes), '\0');
+    r.bytes(state.data(), state.size());
     const uint64_t computed = r.hash();
     if (r.u64() != computed) fail(path, "corrupt checkpoint (checksum mismatch)");
 
     Film film(width, height);
     film.restore(passes, std::move(sums), std::move(splats));
-    return Checkpoint{std::move(scenePath), std::move(settings), nonFinite, std::move(film)};
+    return Checkpoint{std::move(scenePath), std::move(settings), nonFinite, std::move(film), std::move(state)};
 }
 
 std::string checkpointMismatch(const CheckpointSettings& saved, const CheckpointSettings& now) {

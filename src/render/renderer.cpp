@@ -130,15 +130,20 @@ public:
                 summary.totals.add(c.path);
             }
             stats.rays += summary.totals.rays;
+            summary.width = options_.width;
+            summary.height = options_.height;
+            summary.radiance = radiance_.data();
+            summary.splats = tileSplats_.data();
+            summary.splatLists = int(tileSplats_.size());
         }
         for (SplatList& list : tileSplats_) {
             if (complete) {
                 film_.mergeSplats(list);
                 stats.nonFinite += list.nonFinite();
             }
-            list.clear();
         }
         integrator_.endPass(scene_, summary);
+        for (SplatList& list : tileSplats_) list.clear();
         return complete;
     }
 

@@ -3,6 +3,8 @@
 // MIS over all of them with densities that include the free-flight sampling in both
 // directions (bdpt_mis.h). docs/mis.md derives the weights.
 #pragma once
+#include <memory>
+#include <string>
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
 
@@ -49,6 +51,19 @@ struct BdptOptions {
     // density times p). 1: every pair of subpath vertices is joined. 1/4 was more efficient
     // than 1 on 12 of the 14 bench scenes, for --connect density and mis (docs/results.md).
     float generalConnection = 0.25f;
+    // The rest of the allocation (bdpt_allocation.h), all on by default. lightSubpaths: one
+    // light subpath per sample, or none (then no camera or general connection is made: a path
+    // tracer with the s = 0 and s = 1 strategies). lightTracing: camera connections (t = 1).
+    // equiAngularLight/Camera: the equi-angular variants of light (s = 1) and camera (t = 1)
+    // connections (with --connect mis|equiangular). The weights count each strategy as often
+    // as it is made, so every allocation is unbiased wherever its strategies cover the paths.
+    bool lightSubpaths = true, lightTracing = true;
+    bool equiAngularLight = true, equiAngularCamera = true;
+    // The efficiency-aware tracer (`--integrator auto`): the allocation above is replaced pass
+    // by pass by the planner's (allocation_planner.h): the pilot's, then the chosen one.
+    // (Without the camera walk's pass-through at the last scattering event --max-depth allows,
+    // which only equi-angular light connections cover and which a candidate may turn off.)
+    bool efficiencyAware = false;
     const BdptObserver* observer = nullptr;
 };
 
@@ -61,21 +76,36 @@ struct StrategyCounts {
 };
 // The PathStats counter a strategy's contribution counts in.
 inline int strategyCounter(StrategyKind kind, bool equiAngular) { return int(kind) + (equiAngular ? 4 : 0); }
+// The PathStats counters of the rays each part of a sample traced, the efficiency-aware
+// tracer's cost model (allocation_planner.h): the two walks, and each kind of connection
+// but the emitter hit (which traces none of its own) by variant.
+constexpr int kCameraWalkRays = 8, kLightWalkRays = 9;
+inline int rayCounter(StrategyKind kind, bool equiAngular) { return 8 + 2 * int(kind) + (equiAngular ? 1 : 0); }
+
+class AllocationPlanner;
 
 class BdptIntegrator : public SplattingIntegrator {
 public:
-    explicit BdptIntegrator(BdptOptions options) : options_(options) {}
+    explicit BdptIntegrator(BdptOptions options);
+    ~BdptIntegrator() override;
     Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                               PathStats& stats, SplatList& splats) const override;
+    void beginPass(const Scene& scene, int pass) override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
+    std::string saveState() const override;
+    void loadState(const std::string& state) override;
 
     // The counts of the last complete pass, and of all complete passes so far.
     const StrategyCounts& lastPassCounts() const { return lastPass_; }
     const StrategyCounts& totalCounts() const { return total_; }
+    // With BdptOptions::efficiencyAware, what it chose and why; else null.
+    const AllocationPlanner* planner() const { return planner_.get(); }
 
 private:
     BdptOptions options_;
     StrategyCounts lastPass_, total_;
+    std::unique_ptr<AllocationPlanner> planner_;
+    bool collecting_ = false;  // this pass records statistics (planner_)
 };
 
 }  // namespace brume

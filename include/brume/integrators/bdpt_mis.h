@@ -34,6 +34,12 @@ struct MisSettings {
     // medium vertex there (density 0: its strategies lose their free-flight variants), and a
     // surface with free-flight density 1.
     int passFirstAt = 1 << 30;
+    // The rest of the allocation in force (BdptOptions): how many camera connections (t = 1)
+    // a sample makes (1, or 0 without light tracing), and whether light (s = 1) and camera
+    // (t = 1) connections have equi-angular variants. A strategy made n times has its
+    // density counted n times in every weight; one made 0 times drops out of them.
+    double cameraConnection = 1.0;
+    bool equiAngularLight = true, equiAngularCamera = true;
 };
 
 // Whether the camera walk passes through media to make its vertex j, after a vertex that is
@@ -65,7 +71,7 @@ struct StrategyJoin {
 // next to the connection, which only this connection determines, are set for the weight and
 // put back after (connectionReverseDensities).
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
-                      MisSettings settings);
+                      MisSettings settings, double* perCount = nullptr);
 
 // Sets pdfRev of z(t−1), z(t−2), y(s−1), y(s−2) (those that exist) to the densities with which
 // the other subpath's walk, continued through the connection, would have made them.
@@ -74,7 +80,11 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
 
 // The weight for joined subpaths whose four vertices next to the connection already carry its
 // reverse densities (strategyWeight calls this; the weight checker's derivation follows it).
+// *perCount (if given) receives the weight divided by the own strategy's count (for the
+// balance heuristic: the own density over Σ_k n_k·p_k), which exists even where that count is
+// 0; +∞ where no strategy of the allocation can make the path.
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
-                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity = 0);
+                 MisSettings settings, bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity = 0,
+                 double* perCount = nullptr);
 
 }  // namespace brume

@@ -11,6 +11,7 @@
 // both variants; the weights come from strategyWeight (bdpt_mis.h).
 #pragma once
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/allocation_statistics.h"
 #include "brume/integrators/bdpt_mis.h"
 
 namespace brume {
@@ -29,6 +30,9 @@ struct StrategyContext {
     const Sampler& sampler;
     PathStats& stats;
     int width, height;
+    // Non-null while the efficiency-aware tracer gathers statistics: every weighted
+    // contribution is recorded there too (allocation_statistics.h).
+    std::vector<WeightRecord>* records = nullptr;
 };
 
 Spectrum emitterHit(const StrategyContext& c, int t);

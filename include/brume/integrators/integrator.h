@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include "brume/integrators/splat_list.h"
 #include "brume/math/vec3.h"
 #include "brume/sampling/sampler.h"
@@ -14,12 +15,14 @@ class Scene;
 // tile and sums them in tile order once the pass is complete: rays for the summary line, and
 // counters for the integrator's own statistics (its endPass), the same for any thread count.
 struct PathStats {
-    static constexpr int kCounters = 8;
+    static constexpr int kCounters = 16, kSums = 24;
     uint64_t rays = 0;                     // closest-hit and shadow rays traced
     uint64_t counters[kCounters] = {};     // integrator-defined
+    double sums[kSums] = {};               // integrator-defined (summed in tile order too)
     void add(const PathStats& o) {
         rays += o.rays;
         for (int i = 0; i < kCounters; ++i) counters[i] += o.counters[i];
+        for (int i = 0; i < kSums; ++i) sums[i] += o.sums[i];
     }
 };
 
@@ -28,6 +31,12 @@ struct PassSummary {
     int pass = 0;
     bool complete = false;  // false: abandoned, its samples thrown away
     PathStats totals;       // its tiles' counters, summed in tile order (complete passes only)
+    // The pass's own image (complete passes only): one sample per pixel, row-major, and the
+    // splats of its tiles in tile order.
+    int width = 0, height = 0;
+    const Spectrum* radiance = nullptr;
+    const SplatList* splats = nullptr;
+    int splatLists = 0;
 };
 
 // Russian roulette: the probability that a path with throughput beta (relative to `scale`)
@@ -59,6 +68,11 @@ public:
     // steer later passes) changes only here, so every sample of a pass sees the same state.
     virtual void beginPass(const Scene& scene, int pass) {}
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}
+    // What it keeps from pass to pass, as bytes for a checkpoint (empty: nothing), and back:
+    // a render resumed from a checkpoint continues with the same state. loadState throws
+    // std::runtime_error for bytes it did not write.
+    virtual std::string saveState() const { return {}; }
+    virtual void loadState(const std::string& state) {}
 };
 
 // An integrator that, besides the radiance through its own film position, deposits

@@ -11,8 +11,10 @@
 //   i32 passes                 completed passes
 //   u64 nonFinite              samples and splats dropped so far
 //   u8 hasSplats
+//   u64 stateBytes             the integrator's state (Integrator::saveState), may be 0
 //   f64 × 3·w·h                sample sums, row-major, top row first
 //   f64 × 3·w·h                splat sums, only if hasSplats
+//   stateBytes bytes           the integrator's state
 //   u64 checksum               FNV-1a 64 of every byte before it
 // where str is u32 length + bytes (at most 4096). Doubles are stored as their IEEE bits.
 #pragma once
@@ -25,7 +27,7 @@
 
 namespace brume {
 
-constexpr uint32_t kCheckpointVersion = 1;
+constexpr uint32_t kCheckpointVersion = 2;
 
 // (name, value): what must match for a checkpoint to be continued, e.g. ("--spp", "64").
 using CheckpointSettings = std::vector<std::pair<std::string, std::string>>;
@@ -35,13 +37,14 @@ struct Checkpoint {
     CheckpointSettings settings;
     uint64_t nonFinite = 0;
     Film film;
+    std::string integratorState;
 };
 
 // Writes to "<path>.tmp-<pid>", flushes it to disk and renames it over `path`, so `path`
 // always holds a whole checkpoint (the old one until the new one is complete). Throws
 // std::runtime_error ("<path>: <problem>") on failure, leaving no temporary file.
 void writeCheckpoint(const std::string& path, const std::string& scenePath, const CheckpointSettings& settings,
-                     const Film& film, uint64_t nonFinite);
+                     const Film& film, uint64_t nonFinite, const std::string& integratorState = {});
 
 // Reads a checkpoint. A missing, truncated, corrupt or foreign file, or another version, is a
 // std::runtime_error ("<path>: <problem>"); the file size is checked against its header

@@ -1,0 +1,82 @@
+// The efficiency-aware allocation (`--integrator auto`, the default): the bidirectional
+// tracer starts with the pilot allocation (every strategy on), learns from its first passes
+// what each candidate allocation (bdpt_allocation.h) would cost and how noisy it would be,
+// and renders the rest with the one of best estimated efficiency 1 / (relative variance ×
+// cost). After Grittmann, Yazici, Georgiev and Slusallek, "Efficiency-aware multiple
+// importance sampling for bidirectional rendering algorithms" (SIGGRAPH 2022).
+//
+// Schedule, by the film's pass index:
+//   passes 0, 1   pilot; their images give each pixel's weight 1/(Ī² + ε) (Ī: their mean,
+//                 box-filtered 5×5; ε = 0.01 as in `brume bench`'s relative MSE) and an
+//                 unbiased estimate of Σ I² (the product of the two passes' values);
+//   passes 2–5    pilot, and every second pixel in x and y records its contributions: the
+//                 second moment of each candidate (allocation_statistics.h) and the rays each
+//                 part of a sample traced;
+//   then          the chosen allocation, for good.
+// Estimated relative variance of one pass: V = Σ_pixels,channels w·M − Σ w·I²; cost: rays per
+// pass, each part of the pilot's counted once per ray, the parts a candidate drops left out
+// and general connections scaled by their probability. Every number comes from completed
+// passes summed in tile order, so the choice is the same for any thread count, and it is
+// kept in checkpoints (saveState).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "brume/integrators/allocation_statistics.h"
+#include "brume/integrators/bdpt_allocation.h"
+
+namespace brume {
+
+class AllocationPlanner {
+public:
+    static constexpr int kWeightPasses = 2, kCollectPasses = 4;
+    static constexpr int kDecisionPass = kWeightPasses + kCollectPasses - 1;  // decided after it
+
+    explicit AllocationPlanner(ConnectMode connect);
+
+    // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
+    const BdptAllocation& allocationFor(int pass) const;
+    bool collects(int pass) const { return chosen_ < 0 && pass >= kWeightPasses && pass <= kDecisionPass; }
+    static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
+    PixelWeights weights() const { return PixelWeights{width_, height_, weights_.data()}; }
+    const std::vector<BdptAllocation>& candidates() const { return candidates_; }
+
+    void endPass(const PassSummary& summary);
+
+    bool decided() const { return chosen_ >= 0; }
+    const BdptAllocation& chosen() const { return candidates_[size_t(chosen_ < 0 ? pilot_ : chosen_)]; }
+    // One line: the choice and its estimated efficiency relative to the pilot's; and a table
+    // of every candidate's estimated relative variance, cost and efficiency.
+    std::string summaryLine() const;
+    std::string report() const;
+
+    std::string saveState() const;
+    void loadState(const std::string& state);  // std::runtime_error if malformed
+
+    // The estimates behind the choice (after it), per candidate.
+    struct Estimate {
+        double variance = 0, cost = 0, efficiency = 0;
+    };
+    const std::vector<Estimate>& estimates() const { return estimates_; }
+
+private:
+    void passImage(const PassSummary& summary, std::vector<float>& image) const;
+    void decide();
+    double cost(const BdptAllocation& a) const;
+
+    std::vector<BdptAllocation> candidates_;
+    int pilot_ = 0;
+    int chosen_ = -1;
+    int width_ = 0, height_ = 0;
+    std::vector<float> first_;    // pass 0's image, until pass 1's arrives
+    std::vector<float> weights_;  // 3 per pixel
+    double squaredMean_ = 0;      // Σ w·I² over pixels and channels, per pass
+    double moments_[PathStats::kSums] = {};
+    uint64_t counters_[PathStats::kCounters] = {};
+    uint64_t samples_ = 0;
+    int collected_ = 0;
+    std::vector<Estimate> estimates_;
+};
+
+}  // namespace brume

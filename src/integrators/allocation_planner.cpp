@@ -1,0 +1,223 @@
+#include "brume/integrators/allocation_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+namespace brume {
+
+namespace {
+
+constexpr double kRelativeEpsilon = 1e-2;  // as brume bench's relative MSE
+constexpr int kBlur = 2;                   // the pixel weights' box filter radius
+
+}  // namespace
+
+AllocationPlanner::AllocationPlanner(ConnectMode connect) : candidates_(candidateAllocations(connect)) {
+    static_assert(PathStats::kSums >= 18, "a moment per candidate");
+    BdptAllocation pilot = pilotAllocation();
+    if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
+    for (size_t j = 0; j < candidates_.size(); ++j)
+        if (candidates_[j] == pilot) pilot_ = int(j);
+}
+
+const BdptAllocation& AllocationPlanner::allocationFor(int pass) const {
+    return pass > kDecisionPass && chosen_ >= 0 ? candidates_[size_t(chosen_)] : candidates_[size_t(pilot_)];
+}
+
+// The pass's own image (samples and splats), 3 floats per pixel.
+void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& image) const {
+    image.assign(size_t(s.width) * size_t(s.height) * 3, 0.0f);
+    for (size_t i = 0; i < size_t(s.width) * size_t(s.height); ++i)
+        for (int c = 0; c < 3; ++c) image[3 * i + size_t(c)] = s.radiance[i][c];
+    for (int l = 0; l < s.splatLists; ++l)
+        for (const SplatList::Record& r : s.splats[l].records())
+            for (int c = 0; c < 3; ++c) image[3 * (size_t(r.y) * size_t(s.width) + size_t(r.x)) + size_t(c)] += r.value[c];
+}
+
+void AllocationPlanner::endPass(const PassSummary& s) {
+    if (!s.complete || chosen_ >= 0 || !s.radiance) return;
+    if (s.pass == 0) {
+        width_ = s.width;
+        height_ = s.height;
+        passImage(s, first_);
+        return;
+    }
+    if (s.pass == 1 && first_.size() == size_t(s.width) * size_t(s.height) * 3) {
+        std::vector<float> second;
+        passImage(s, second);
+        // Ī: the two passes' mean, box-filtered; Σ w·I² from the product of the two (independent) passes.
+        const int W = width_, H = height_;
+        weights_.assign(first_.size(), 0.0f);
+        squaredMean_ = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                double mean[3] = {0, 0, 0};
+                int n = 0;
+                for (int yy = std::max(0, y - kBlur); yy <= std::min(H - 1, y + kBlur); ++yy)
+                    for (int xx = std::max(0, x - kBlur); xx <= std::min(W - 1, x + kBlur); ++xx, ++n)
+                        for (int c = 0; c < 3; ++c) {
+                            size_t i = 3 * (size_t(yy) * size_t(W) + size_t(xx)) + size_t(c);
+                            mean[c] += 0.5 * (double(first_[i]) + double(second[i]));
+                        }
+                for (int c = 0; c < 3; ++c) {
+                    size_t i = 3 * (size_t(y) * size_t(W) + size_t(x)) + size_t(c);
+                    double m = mean[c] / n;
+                    weights_[i] = float(1.0 / (m * m + kRelativeEpsilon));
+                    squaredMean_ += double(weights_[i]) * double(first_[i]) * double(second[i]);
+                }
+            }
+        first_.clear();
+        first_.shrink_to_fit();
+        return;
+    }
+    if (!collects(s.pass) || weights_.empty()) return;
+    for (int j = 0; j < PathStats::kSums; ++j) moments_[j] += s.totals.sums[j];
+    for (int k = 0; k < PathStats::kCounters; ++k) counters_[k] += s.totals.counters[k];
+    samples_ += uint64_t(s.width) * uint64_t(s.height);
+    if (++collected_ == kCollectPasses) decide();
+}
+
+// Rays per pass of allocation a, from the pilot's counts: the camera walk and the light
+// connections' free-flight variants always; the rest as the allocation makes them. Plus one
+// per sample for what is not a ray (the camera ray's set-up, the film).
+double AllocationPlanner::cost(const BdptAllocation& a) const {
+    auto rays = [&](int counter) { return double(counters_[counter]); };
+    const BdptAllocation& p = candidates_[size_t(pilot_)];
+    double c = double(samples_) + rays(kCameraWalkRays) + rays(rayCounter(StrategyKind::LightConnection, false));
+    if (a.equiAngularLight) c += rays(rayCounter(StrategyKind::LightConnection, true));
+    if (a.lightSubpaths) {
+        c += rays(kLightWalkRays);
+        if (a.lightTracing) {
+            c += rays(rayCounter(StrategyKind::CameraConnection, false));
+            if (a.equiAngularCamera) c += rays(rayCounter(StrategyKind::CameraConnection, true));
+        }
+        if (p.generalConnection > 0)
+            c += a.generalConnection / p.generalConnection * (rays(rayCounter(StrategyKind::SubpathConnection, false)) +
+                                                              rays(rayCounter(StrategyKind::SubpathConnection, true)));
+    }
+    return c / std::max(1, collected_);
+}
+
+void AllocationPlanner::decide() {
+    // Per pass, over the whole image: every second pixel in x and y recorded (×4).
+    const double scale = 4.0 / std::max(1, collected_);
+    estimates_.assign(candidates_.size(), Estimate{});
+    int best = pilot_;
+    for (size_t j = 0; j < candidates_.size(); ++j) {
+        const double m = moments_[j] * scale;
+        Estimate& e = estimates_[j];
+        // M − Σ I², kept above a thousandth of M where the two are too close to tell apart.
+        e.variance = std::isfinite(m) ? std::max(m - squaredMean_, 1e-3 * m) : std::numeric_limits<double>::infinity();
+        e.cost = cost(candidates_[j]);
+        e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
+        if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);
+    }
+    chosen_ = best;
+}
+
+std::string AllocationPlanner::summaryLine() const {
+    if (chosen_ < 0) return "allocation: pilot (" + candidates_[size_t(pilot_)].name() + "), not yet decided";
+    const Estimate& e = estimates_[size_t(chosen_)];
+    const Estimate& p = estimates_[size_t(pilot_)];
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "allocation: %s (estimated efficiency %.2fx the pilot's: variance %.2fx, cost %.2fx)",
+                  candidates_[size_t(chosen_)].name().c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0,
+                  p.variance > 0 ? e.variance / p.variance : 0.0, p.cost > 0 ? e.cost / p.cost : 0.0);
+    return buf;
+}
+
+std::string AllocationPlanner::report() const {
+    std::string out = summaryLine() + "\n";
+    if (chosen_ < 0) return out;
+    const Estimate& p = estimates_[size_t(pilot_)];
+    std::vector<size_t> order(candidates_.size());
+    for (size_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return estimates_[a].efficiency > estimates_[b].efficiency; });
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "  %-24s %12s %10s %12s   (relative to the pilot)\n", "candidate", "variance", "cost",
+                  "efficiency");
+    out += buf;
+    for (size_t j : order) {
+        const Estimate& e = estimates_[j];
+        std::snprintf(buf, sizeof buf, "  %-24s %12.3g %10.3f %12.3g%s\n", candidates_[j].name().c_str(),
+                      e.variance / p.variance, e.cost / p.cost, e.efficiency / p.efficiency,
+                      int(j) == chosen_ ? "   chosen" : int(j) == pilot_ ? "   pilot" : "");
+        out += buf;
+    }
+    return out;
+}
+
+// State: "BAP1", then i32 chosen, collected, width, height; u64 samples; f64 squaredMean;
+// f64 × kSums moments; u64 × kCounters counters; u64 n + f32 × n first; u64 n + f32 × n weights.
+namespace {
+template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+template <class T> void putVector(std::string& out, const std::vector<T>& v) {
+    put(out, uint64_t(v.size()));
+    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+struct Reader {
+    const std::string& s;
+    size_t at = 0;
+    template <class T> T get() {
+        if (s.size() - at < sizeof(T)) throw std::runtime_error("allocation state is truncated");
+        T v;
+        std::memcpy(&v, s.data() + at, sizeof v);
+        at += sizeof v;
+        return v;
+    }
+    template <class T> std::vector<T> getVector(size_t most) {
+        uint64_t n = get<uint64_t>();
+        if (n > most || (s.size() - at) / sizeof(T) < n) throw std::runtime_error("allocation state is malformed");
+        std::vector<T> v(n);
+        std::memcpy(v.data(), s.data() + at, n * sizeof(T));
+        at += n * sizeof(T);
+        return v;
+    }
+};
+}  // namespace
+
+std::string AllocationPlanner::saveState() const {
+    std::string out = "BAP1";
+    put(out, int32_t(chosen_));
+    put(out, int32_t(collected_));
+    put(out, int32_t(width_));
+    put(out, int32_t(height_));
+    put(out, samples_);
+    put(out, squaredMean_);
+    for (double m : moments_) put(out, m);
+    for (uint64_t c : counters_) put(out, c);
+    putVector(out, first_);
+    putVector(out, weights_);
+    return out;
+}
+
+void AllocationPlanner::loadState(const std::string& state) {
+    if (state.size() < 4 || state.compare(0, 4, "BAP1") != 0) throw std::runtime_error("not an allocation state");
+    Reader r{state, 4};
+    const int chosen = r.get<int32_t>(), collected = r.get<int32_t>(), width = r.get<int32_t>(), height = r.get<int32_t>();
+    if (chosen < -1 || chosen >= int(candidates_.size()) || collected < 0 || collected > kCollectPasses || width < 0 ||
+        height < 0 || width > (1 << 16) || height > (1 << 16))
+        throw std::runtime_error("allocation state is malformed");
+    samples_ = r.get<uint64_t>();
+    squaredMean_ = r.get<double>();
+    for (double& m : moments_) m = r.get<double>();
+    for (uint64_t& c : counters_) c = r.get<uint64_t>();
+    const size_t pixels3 = size_t(width) * size_t(height) * 3;
+    first_ = r.getVector<float>(pixels3);
+    weights_ = r.getVector<float>(pixels3);
+    chosen_ = -1;
+    collected_ = collected;
+    width_ = width;
+    height_ = height;
+    if (chosen >= 0) {
+        if (collected_ == kCollectPasses) decide();  // the estimates again, from the same numbers
+        chosen_ = chosen;
+    }
+}
+
+}  // namespace brume

@@ -1,0 +1,59 @@
+#include "brume/integrators/bdpt_allocation.h"
+
+#include <cstdio>
+
+namespace brume {
+
+std::string BdptAllocation::name() const {
+    std::string ea = std::string(equiAngularLight ? "L" : "") + (lightSubpaths && lightTracing && equiAngularCamera ? "C" : "");
+    if (!lightSubpaths) return equiAngularLight ? "pt+ea" : "pt";
+    char p[16];
+    std::snprintf(p, sizeof p, "%g", double(generalConnection));
+    return std::string("bdpt") + (lightTracing ? " lt" : "") + " p=" + p + (ea.empty() ? "" : " ea=" + ea);
+}
+
+void BdptAllocation::applyTo(BdptOptions& o) const {
+    o.lightSubpaths = lightSubpaths;
+    o.lightTracing = lightTracing;
+    o.generalConnection = generalConnection;
+    o.equiAngularLight = equiAngularLight;
+    o.equiAngularCamera = equiAngularCamera;
+}
+
+bool BdptAllocation::operator==(const BdptAllocation& o) const {
+    return lightSubpaths == o.lightSubpaths && lightTracing == o.lightTracing && generalConnection == o.generalConnection &&
+           equiAngularLight == o.equiAngularLight && equiAngularCamera == o.equiAngularCamera;
+}
+
+BdptAllocation pilotAllocation() { return BdptAllocation{}; }
+
+std::vector<BdptAllocation> candidateAllocations(ConnectMode connect) {
+    const bool ea = connect != ConnectMode::Density;
+    std::vector<BdptAllocation> out;
+    auto add = [&](BdptAllocation a) {
+        if (!ea) a.equiAngularLight = a.equiAngularCamera = false;
+        if (!a.lightSubpaths || !a.lightTracing) a.equiAngularCamera = false;
+        if (!a.lightSubpaths) a.lightTracing = false, a.generalConnection = 0;
+        for (const BdptAllocation& b : out)
+            if (b == a) return;
+        out.push_back(a);
+    };
+    for (bool eaLight : {true, false}) add(BdptAllocation{false, false, 0.0f, eaLight, false});
+    for (float p : {0.25f, 1.0f, 0.0f})
+        for (bool eaLight : {true, false})
+            for (bool eaCamera : {true, false}) add(BdptAllocation{true, true, p, eaLight, eaCamera});
+    for (float p : {0.25f, 1.0f})
+        for (bool eaLight : {true, false}) add(BdptAllocation{true, false, p, eaLight, false});
+    return out;
+}
+
+bool allocationNamed(const std::string& name, ConnectMode connect, BdptAllocation* out) {
+    for (const BdptAllocation& a : candidateAllocations(connect))
+        if (a.name() == name) {
+            *out = a;
+            return true;
+        }
+    return false;
+}
+
+}  // namespace brume

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -39,40 +40,38 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 }
 
 void AllocationPlanner::endPass(const PassSummary& s) {
-    if (!s.complete || chosen_ >= 0 || !s.radiance) return;
+    if (!s.complete || chosen_ >= 0 || !s.radiance || s.pass > kDecisionPass) return;
     if (s.pass == 0) {
         width_ = s.width;
         height_ = s.height;
-        passImage(s, first_);
-        return;
+        sum_.assign(size_t(s.width) * size_t(s.height) * 3, 0.0);
+        sumSq_ = sum_;
+        passes_ = 0;
     }
-    if (s.pass == 1 && first_.size() == size_t(s.width) * size_t(s.height) * 3) {
-        std::vector<float> second;
-        passImage(s, second);
-        // Ī: the two passes' mean, box-filtered; Σ w·I² from the product of the two (independent) passes.
+    if (sum_.size() != size_t(s.width) * size_t(s.height) * 3 || passes_ != s.pass) return;  // (not from pass 0 on)
+    std::vector<float> image;
+    passImage(s, image);
+    for (size_t i = 0; i < image.size(); ++i) {
+        sum_[i] += image[i];
+        sumSq_[i] += double(image[i]) * double(image[i]);
+    }
+    ++passes_;
+    if (s.pass == kWeightPasses - 1) {
+        // Ī: the mean of the passes so far, box-filtered.
         const int W = width_, H = height_;
-        weights_.assign(first_.size(), 0.0f);
-        squaredMean_ = 0;
+        weights_.assign(sum_.size(), 0.0f);
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 double mean[3] = {0, 0, 0};
                 int n = 0;
                 for (int yy = std::max(0, y - kBlur); yy <= std::min(H - 1, y + kBlur); ++yy)
                     for (int xx = std::max(0, x - kBlur); xx <= std::min(W - 1, x + kBlur); ++xx, ++n)
-                        for (int c = 0; c < 3; ++c) {
-                            size_t i = 3 * (size_t(yy) * size_t(W) + size_t(xx)) + size_t(c);
-                            mean[c] += 0.5 * (double(first_[i]) + double(second[i]));
-                        }
+                        for (int c = 0; c < 3; ++c) mean[c] += sum_[3 * (size_t(yy) * size_t(W) + size_t(xx)) + size_t(c)];
                 for (int c = 0; c < 3; ++c) {
-                    size_t i = 3 * (size_t(y) * size_t(W) + size_t(x)) + size_t(c);
-                    double m = mean[c] / n;
-                    weights_[i] = float(1.0 / (m * m + kRelativeEpsilon));
-                    squaredMean_ += double(weights_[i]) * double(first_[i]) * double(second[i]);
+                    double m = mean[c] / (n * passes_);
+                    weights_[3 * (size_t(y) * size_t(W) + size_t(x)) + size_t(c)] = float(1.0 / (m * m + kRelativeEpsilon));
                 }
             }
-        first_.clear();
-        first_.shrink_to_fit();
-        return;
     }
     if (!collects(s.pass) || weights_.empty()) return;
     for (int j = 0; j < PathStats::kSums; ++j) moments_[j] += s.totals.sums[j];
@@ -103,20 +102,33 @@ double AllocationPlanner::cost(const BdptAllocation& a) const {
 }
 
 void AllocationPlanner::decide() {
-    // Per pass, over the whole image: every second pixel in x and y recorded (×4).
+    // The pilot's variance of one pass, measured: per pixel and channel, the unbiased sample
+    // variance of its (independent) pilot passes, weighted.
+    double pilotVariance = 0;
+    for (size_t i = 0; i < sum_.size(); ++i) {
+        const double n = passes_, v = (sumSq_[i] - sum_[i] * sum_[i] / n) / (n - 1);
+        pilotVariance += double(weights_[i]) * std::max(v, 0.0);
+    }
+    // Each candidate's, by the difference of second moments: V_j = V_pilot + M_j − M_pilot
+    // (the mean, and the covariances between path lengths that M leaves out, are the
+    // pilot's). Per pass over the whole image: every second pixel in x and y recorded (×4).
     const double scale = 4.0 / std::max(1, collected_);
+    const double pilotMoment = moments_[pilot_] * scale;
     estimates_.assign(candidates_.size(), Estimate{});
     int best = pilot_;
     for (size_t j = 0; j < candidates_.size(); ++j) {
         const double m = moments_[j] * scale;
         Estimate& e = estimates_[j];
-        // M − Σ I², kept above a thousandth of M where the two are too close to tell apart.
-        e.variance = std::isfinite(m) ? std::max(m - squaredMean_, 1e-3 * m) : std::numeric_limits<double>::infinity();
+        // (Kept above a hundredth of the pilot's where noise would make it negative.)
+        e.variance = std::isfinite(m) ? std::max(pilotVariance + m - pilotMoment, 1e-2 * pilotVariance)
+                                      : std::numeric_limits<double>::infinity();
         e.cost = cost(candidates_[j]);
         e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);
     }
     chosen_ = best;
+    if (std::getenv("BRUME_DEBUG_PLANNER"))
+        std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_[0] * scale);
 }
 
 std::string AllocationPlanner::summaryLine() const {
@@ -138,7 +150,17 @@ std::string AllocationPlanner::report() const {
     for (size_t j = 0; j < order.size(); ++j) order[j] = j;
     std::stable_sort(order.begin(), order.end(),
                      [&](size_t a, size_t b) { return estimates_[a].efficiency > estimates_[b].efficiency; });
-    char buf[256];
+    char buf[512];
+    auto perPass = [&](int counter) { return double(counters_[counter]) / std::max(1, collected_); };
+    std::snprintf(buf, sizeof buf,
+                  "  pilot, rays per pass: camera walk %.0f, light walk %.0f, light connections %.0f + %.0f "
+                  "equi-angular, camera connections %.0f + %.0f, general connections %.0f; samples %.0f\n",
+                  perPass(kCameraWalkRays), perPass(kLightWalkRays), perPass(rayCounter(StrategyKind::LightConnection, false)),
+                  perPass(rayCounter(StrategyKind::LightConnection, true)), perPass(rayCounter(StrategyKind::CameraConnection, false)),
+                  perPass(rayCounter(StrategyKind::CameraConnection, true)),
+                  perPass(rayCounter(StrategyKind::SubpathConnection, false)) + perPass(rayCounter(StrategyKind::SubpathConnection, true)),
+                  double(samples_) / std::max(1, collected_));
+    out += buf;
     std::snprintf(buf, sizeof buf, "  %-24s %12s %10s %12s   (relative to the pilot)\n", "candidate", "variance", "cost",
                   "efficiency");
     out += buf;
@@ -152,8 +174,9 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP1", then i32 chosen, collected, width, height; u64 samples; f64 squaredMean;
-// f64 × kSums moments; u64 × kCounters counters; u64 n + f32 × n first; u64 n + f32 × n weights.
+// State: "BAP1", then i32 chosen, collected, passes, width, height; u64 samples; f64 × kSums
+// moments; u64 × kCounters counters; then (u64 n, n values) for sum (f64), sumSq (f64),
+// weights (f32).
 namespace {
 template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
 template <class T> void putVector(std::string& out, const std::vector<T>& v) {
@@ -185,13 +208,14 @@ std::string AllocationPlanner::saveState() const {
     std::string out = "BAP1";
     put(out, int32_t(chosen_));
     put(out, int32_t(collected_));
+    put(out, int32_t(passes_));
     put(out, int32_t(width_));
     put(out, int32_t(height_));
     put(out, samples_);
-    put(out, squaredMean_);
     for (double m : moments_) put(out, m);
     for (uint64_t c : counters_) put(out, c);
-    putVector(out, first_);
+    putVector(out, sum_);
+    putVector(out, sumSq_);
     putVector(out, weights_);
     return out;
 }
@@ -199,19 +223,22 @@ std::string AllocationPlanner::saveState() const {
 void AllocationPlanner::loadState(const std::string& state) {
     if (state.size() < 4 || state.compare(0, 4, "BAP1") != 0) throw std::runtime_error("not an allocation state");
     Reader r{state, 4};
-    const int chosen = r.get<int32_t>(), collected = r.get<int32_t>(), width = r.get<int32_t>(), height = r.get<int32_t>();
-    if (chosen < -1 || chosen >= int(candidates_.size()) || collected < 0 || collected > kCollectPasses || width < 0 ||
-        height < 0 || width > (1 << 16) || height > (1 << 16))
+    const int chosen = r.get<int32_t>(), collected = r.get<int32_t>(), passes = r.get<int32_t>();
+    const int width = r.get<int32_t>(), height = r.get<int32_t>();
+    if (chosen < -1 || chosen >= int(candidates_.size()) || collected < 0 || collected > kCollectPasses || passes < 0 ||
+        passes > kDecisionPass + 1 || width < 0 || height < 0 || width > (1 << 16) || height > (1 << 16))
         throw std::runtime_error("allocation state is malformed");
     samples_ = r.get<uint64_t>();
-    squaredMean_ = r.get<double>();
     for (double& m : moments_) m = r.get<double>();
     for (uint64_t& c : counters_) c = r.get<uint64_t>();
-    const size_t pixels3 = size_t(width) * size_t(height) * 3;
-    first_ = r.getVector<float>(pixels3);
-    weights_ = r.getVector<float>(pixels3);
+    const size_t values = size_t(width) * size_t(height) * 3;
+    sum_ = r.getVector<double>(values);
+    sumSq_ = r.getVector<double>(values);
+    weights_ = r.getVector<float>(values);
+    if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
     chosen_ = -1;
     collected_ = collected;
+    passes_ = passes;
     width_ = width;
     height_ = height;
     if (chosen >= 0) {

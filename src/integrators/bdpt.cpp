@@ -44,6 +44,10 @@ void BdptIntegrator::beginPass(const Scene&, int pass) {
     collecting_ = planner_->collects(pass);
 }
 
+SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
+    return planner_ ? planner_->samplerFor(pass, requested) : requested;
+}
+
 std::string BdptIntegrator::saveState() const { return planner_ ? planner_->saveState() : std::string(); }
 
 void BdptIntegrator::loadState(const std::string& state) {

@@ -100,6 +100,7 @@ public:
         integrator_.beginPass(scene_, pass);
         std::lock_guard<std::mutex> lock(mutex_);
         pass_ = pass;
+        passSampler_ = integrator_.samplerFor(pass, options_.sampler);
         nextTile_.store(0);
         tilesDone_.store(0);
         running_ = int(threads_.size());
@@ -196,7 +197,7 @@ private:
         counters = TileCounters();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
-                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass), options_.sampler);
+                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass), passSampler_);
                 Sample2 jitter = sampler.get2D(dim::kFilmJitter);
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
@@ -229,6 +230,7 @@ private:
     std::condition_variable startCv_, doneCv_;
     uint64_t generation_ = 0;  // bumped for every pass
     int pass_ = 0;
+    SamplerKind passSampler_ = SamplerKind::Sobol;  // Integrator::samplerFor the pass in flight
     int running_ = 0;          // workers still in the current pass
     bool quit_ = false;
     std::exception_ptr error_;

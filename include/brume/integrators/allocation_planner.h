@@ -6,18 +6,21 @@
 // importance sampling for bidirectional rendering algorithms" (SIGGRAPH 2022).
 //
 // Schedule, by the film's pass index:
-//   passes 0, 1   pilot; their images give each pixel's weight 1/(Ī² + ε) (Ī: their mean,
-//                 box-filtered 5×5; ε = 0.01 as in `brume bench`'s relative MSE) and an
-//                 unbiased estimate of Σ I² (the product of the two passes' values);
-//   passes 2–5    pilot, and every second pixel in x and y records its contributions: the
-//                 second moment of each candidate (allocation_statistics.h) and the rays each
-//                 part of a sample traced;
-//   then          the chosen allocation, for good.
-// Estimated relative variance of one pass: V = Σ_pixels,channels w·M − Σ w·I²; cost: rays per
-// pass, each part of the pilot's counted once per ray, the parts a candidate drops left out
-// and general connections scaled by their probability. Every number comes from completed
-// passes summed in tile order, so the choice is the same for any thread count, and it is
-// kept in checkpoints (saveState).
+//   passes 0–5    pilot, with independent samples; passes 0 and 1 give each pixel's weight
+//                 1/(Ī² + ε) (Ī: their mean, box-filtered 5×5; ε = 0.01 as in `brume bench`'s
+//                 relative MSE); the spread of the six passes' values gives the pilot's own
+//                 relative variance V_pilot;
+//   passes 2–5    also: every second pixel in x and y records its contributions, for the
+//                 second moment M_j of each candidate j (allocation_statistics.h), and each
+//                 part of a sample counts its rays;
+//   then          the chosen allocation, for good, with the sampler asked for.
+// Estimated relative variance of one pass: V_j = V_pilot + M_j − M_pilot, summed over pixels
+// and channels with the weights (M alone misses the squared mean and the covariance between
+// path lengths; both are taken as the pilot's). Cost: rays per pass, each part of the pilot's
+// counted once per ray, the parts a candidate drops left out and general connections scaled
+// by their probability; a deterministic stand-in for time, which would make the image depend
+// on the machine's load. Every number comes from completed passes summed in tile order, so the
+// choice is the same for any thread count, and it is kept in checkpoints (saveState).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -38,6 +41,11 @@ public:
     // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
     const BdptAllocation& allocationFor(int pass) const;
     bool collects(int pass) const { return chosen_ < 0 && pass >= kWeightPasses && pass <= kDecisionPass; }
+    // The pilot passes sample independently (their spread measures the pilot's variance);
+    // the rest with the sampler asked for.
+    SamplerKind samplerFor(int pass, SamplerKind requested) const {
+        return chosen_ < 0 && pass <= kDecisionPass ? SamplerKind::Independent : requested;
+    }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
     PixelWeights weights() const { return PixelWeights{width_, height_, weights_.data()}; }
     const std::vector<BdptAllocation>& candidates() const { return candidates_; }
@@ -69,9 +77,9 @@ private:
     int pilot_ = 0;
     int chosen_ = -1;
     int width_ = 0, height_ = 0;
-    std::vector<float> first_;    // pass 0's image, until pass 1's arrives
-    std::vector<float> weights_;  // 3 per pixel
-    double squaredMean_ = 0;      // Σ w·I² over pixels and channels, per pass
+    std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far
+    int passes_ = 0;                   // pilot passes in sum_
+    std::vector<float> weights_;       // 3 per pixel
     double moments_[PathStats::kSums] = {};
     uint64_t counters_[PathStats::kCounters] = {};
     uint64_t samples_ = 0;

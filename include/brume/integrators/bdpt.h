@@ -91,6 +91,7 @@ public:
     Spectrum sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                               PathStats& stats, SplatList& splats) const override;
     void beginPass(const Scene& scene, int pass) override;
+    SamplerKind samplerFor(int pass, SamplerKind requested) const override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
     std::string saveState() const override;
     void loadState(const std::string& state) override;

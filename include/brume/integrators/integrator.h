@@ -67,6 +67,8 @@ public:
     // `pass` and after its last. What the integrator keeps from pass to pass (statistics that
     // steer later passes) changes only here, so every sample of a pass sees the same state.
     virtual void beginPass(const Scene& scene, int pass) {}
+    // The sampler pass `pass` uses, given the one asked for (asked after beginPass).
+    virtual SamplerKind samplerFor(int pass, SamplerKind requested) const { return requested; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}
     // What it keeps from pass to pass, as bytes for a checkpoint (empty: nothing), and back:
     // a render resumed from a checkpoint continues with the same state. loadState throws

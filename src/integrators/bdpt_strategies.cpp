@@ -174,8 +174,8 @@ void record(const StrategyContext& c, const PathVertex* lightVertex, int s, int 
     r.y = y;
     r.moved = join.equiAngular;
     if (r.moved) r.vertex = t >= 2 ? c.camera[t - 1] : c.light[s - 1];
-    r.hasLightVertex = s == 1;
-    if (s == 1) r.lightVertex = *lightVertex;
+    r.hasLightVertex = lightVertex != nullptr;  // (light connections: the sampled y0)
+    if (lightVertex) r.lightVertex = *lightVertex;
 }
 
 // The weight of the joined sample, told to the observer; 1 when unweighted.

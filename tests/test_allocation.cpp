@@ -1,0 +1,244 @@
+// The efficiency-aware tracer (`--integrator auto`, allocation_planner.h) and the allocations
+// it chooses among (bdpt_allocation.h): every allocation, forced, and the tracer that chooses,
+// against the closed-form oracles (the furnace, single scattering against 1D quadrature); its
+// choices on clear cases; determinism across thread counts and through saved state.
+// Estimates are batch means of 32 renders, |z| < 4.5 as in test_bdpt_oracles.cpp.
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <string>
+
+#include "brume/integrators/allocation_planner.h"
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/bdpt_allocation.h"
+#include "brume/scene/camera_importance.h"
+#include "support/film_estimates.h"
+#include "support/single_scatter_reference.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+constexpr double kZ = 4.5;
+constexpr int kBatches = 32;
+
+BdptOptions autoOptions(int maxDepth) {
+    BdptOptions o{maxDepth, MisHeuristic::Power};
+    o.connect = ConnectMode::Mis;
+    o.efficiencyAware = true;
+    return o;
+}
+
+BdptOptions forcedOptions(int maxDepth, const BdptAllocation& a) {
+    BdptOptions o{maxDepth, MisHeuristic::Power};
+    o.connect = ConnectMode::Mis;
+    a.applyTo(o);
+    return o;
+}
+
+// Worst |z| over blocks and channels against a per-block reference; `where` names it.
+template <class Ref>
+double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::vector<bool>& skip, Ref reference,
+              std::string* where) {
+    double worst = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+        if (skip[i]) continue;
+        Vec3 ref = reference(int(i) % blocksWide, int(i) / blocksWide);
+        for (int c = 0; c < 3; ++c) {
+            double se = px[i].stderror(c), diff = std::abs(px[i].mean(c) - ref[c]);
+            double z = se > 0 ? diff / se : (diff > 1e-5 * std::max(1.0, double(std::abs(ref[c]))) ? 1e9 : 0.0);
+            if (z > worst) {
+                worst = z;
+                *where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": " +
+                         std::to_string(px[i].mean(c)) + " ± " + std::to_string(px[i].stderror(c)) + " vs " +
+                         std::to_string(ref[c]);
+            }
+        }
+    }
+    return worst;
+}
+
+double furnaceZ(const Scene& scene, Integrator& integrator, int spp, uint64_t seed, std::string* where) {
+    auto px = estimateFilm(scene, integrator, 8, 8, spp, kBatches, seed, 2);
+    return worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, where);
+}
+
+// single_near.gltf at --max-depth 1: per 2×2 block of a 10×10 image, the quadrature averaged
+// over a 16×16 grid of film positions (the block holding the in-view light skipped).
+struct SingleNear {
+    const Vec3 light{0.3f, 0.2f, -3};
+    std::vector<bool> skip;
+    std::vector<Vec3> ref;
+    explicit SingleNear(const Scene& scene) {
+        const int W = 10, B = 2, S = 16;
+        skip.assign(25, false);
+        CameraConnection cc;
+        if (connectToCamera(scene.camera(), light, W, W, &cc)) skip[size_t(int(cc.fy) / B) * 5 + int(cc.fx) / B] = true;
+        ref.assign(25, Vec3(0.0f));
+        for (int i = 0; i < 25; ++i) {
+            if (skip[size_t(i)]) continue;
+            Vec3 sum(0.0f);
+            for (int j = 0; j < S; ++j)
+                for (int k = 0; k < S; ++k) {
+                    Vec3 d = referenceCameraDirection((i % 5) * B + (k + 0.5) * B / S, (i / 5) * B + (j + 0.5) * B / S, W, W, kYfov);
+                    sum += singleScatterReference(d, light, Vec3(10.0f), Vec3(0.2f), Vec3(0.05f), 0.3, nullptr, 2000);
+                }
+            ref[size_t(i)] = sum / float(S * S);
+        }
+    }
+    double z(const Scene& scene, Integrator& integrator, int spp, std::string* where) const {
+        auto px = estimateFilm(scene, integrator, 10, 10, spp, kBatches, 11, 2);
+        return worstZ(px, 5, skip, [&](int x, int y) { return ref[size_t(y) * 5 + x]; }, where);
+    }
+};
+
+// One render's film and the planner's choice.
+struct Rendered {
+    std::vector<float> rgb;
+    std::string chosen;
+};
+
+Rendered renderAuto(const Scene& scene, int W, int H, int spp, int threads, int maxDepth = -1) {
+    BdptIntegrator integrator(autoOptions(maxDepth));
+    Film film(W, H);
+    RenderOptions o;
+    o.width = W;
+    o.height = H;
+    o.spp = spp;
+    o.seed = 5;
+    o.threads = threads;
+    render(scene, integrator, o, film);
+    return Rendered{film.rgb(), integrator.planner()->decided() ? integrator.planner()->chosen().name() : "undecided"};
+}
+
+}  // namespace
+
+TEST_CASE("auto: furnace, every pixel is 1 (pilot and chosen passes)", "[auto][oracle]") {
+    for (const char* file : {"furnace_ambient.gltf", "furnace_albedo.gltf"}) {
+        auto scene = loadTestScene(file);
+        BdptIntegrator integrator(autoOptions(-1));
+        std::string where;
+        double z = furnaceZ(*scene, integrator, 12, 7, &where);
+        INFO(file << ": chose " << integrator.planner()->chosen().name() << "; worst " << where << " (z = " << z << ")");
+        CHECK(integrator.planner()->decided());
+        CHECK(z < kZ);
+    }
+}
+
+TEST_CASE("auto: single scattering matches 1D quadrature", "[auto][oracle]") {
+    auto scene = loadTestScene("single_near.gltf");
+    SingleNear oracle(*scene);
+    BdptIntegrator integrator(autoOptions(1));
+    std::string where;
+    double z = oracle.z(*scene, integrator, 24, &where);
+    INFO("chose " << integrator.planner()->chosen().name() << "; worst " << where << " (z = " << z << ")");
+    CHECK(integrator.planner()->decided());
+    CHECK(z < kZ);
+}
+
+// Each allocation forced for whole renders, so that one the planner rarely picks is tested too.
+TEST_CASE("every candidate allocation, forced: furnace and single scattering", "[auto][oracle][allocation]") {
+    auto furnace = loadTestScene("furnace_albedo.gltf");
+    auto single = loadTestScene("single_near.gltf");
+    SingleNear oracle(*single);
+    for (const BdptAllocation& a : candidateAllocations(ConnectMode::Mis)) {
+        std::string where;
+        BdptIntegrator f(forcedOptions(-1, a));
+        double z = furnaceZ(*furnace, f, 4, 9, &where);
+        INFO(a.name() << ": furnace worst " << where << " (z = " << z << ")");
+        CHECK(z < kZ);
+        BdptIntegrator s(forcedOptions(1, a));
+        z = oracle.z(*single, s, 8, &where);
+        INFO(a.name() << ": single scattering worst " << where << " (z = " << z << ")");
+        CHECK(z < kZ);
+    }
+}
+
+// A spot light seen only through a glass sphere: only light tracing and general connections
+// reach the caustic below it, so an allocation without light subpaths would be biased; the
+// planner must see that (its moments are infinite) and keep them.
+TEST_CASE("auto keeps light subpaths where only they see the light (a spot through glass)", "[auto]") {
+    auto scene = loadTestScene("bdpt_glass_sphere.gltf");
+    BdptIntegrator integrator(autoOptions(-1));
+    Film film(32, 24);
+    RenderOptions o;
+    o.width = 32;
+    o.height = 24;
+    o.spp = 8;
+    render(*scene, integrator, o, film);
+    const AllocationPlanner& p = *integrator.planner();
+    INFO(p.report());
+    REQUIRE(p.decided());
+    CHECK(p.chosen().lightSubpaths);
+    CHECK((p.chosen().lightTracing || p.chosen().generalConnection > 0));
+    // Without light subpaths the estimate must say "biased", not merely "worse".
+    for (size_t j = 0; j < p.candidates().size(); ++j)
+        if (!p.candidates()[j].lightSubpaths) CHECK(p.estimates()[j].efficiency == 0);
+}
+
+TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    Rendered one = renderAuto(*scene, 40, 30, 9, 1);
+    Rendered two = renderAuto(*scene, 40, 30, 9, 2);
+    Rendered three = renderAuto(*scene, 40, 30, 9, 3);
+    CHECK(one.chosen != "undecided");
+    CHECK(one.chosen == two.chosen);
+    CHECK(one.chosen == three.chosen);
+    CHECK(std::memcmp(one.rgb.data(), two.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
+    CHECK(std::memcmp(one.rgb.data(), three.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
+}
+
+// Stopped at any pass (in the pilot, or after the choice), its state saved and loaded into a
+// new tracer: the render continues to the same bits.
+TEST_CASE("auto's state carries a render across a stop bit for bit", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    const int W = 40, H = 30, spp = 9;
+    Rendered straight = renderAuto(*scene, W, H, spp, 2);
+    for (int stop : {1, 3, 6, 7}) {
+        RenderOptions o;
+        o.width = W;
+        o.height = H;
+        o.seed = 5;
+        o.threads = 2;
+        Film film(W, H);
+        std::string state;
+        {
+            BdptIntegrator first(autoOptions(-1));
+            o.spp = stop;
+            render(*scene, first, o, film);
+            state = first.saveState();
+        }
+        BdptIntegrator second(autoOptions(-1));
+        second.loadState(state);
+        o.spp = spp - stop;
+        render(*scene, second, o, film);
+        INFO("stopped after pass " << stop);
+        CHECK(second.planner()->chosen().name() == straight.chosen);
+        std::vector<float> rgb = film.rgb();
+        CHECK(std::memcmp(rgb.data(), straight.rgb.data(), rgb.size() * sizeof(float)) == 0);
+    }
+}
+
+TEST_CASE("auto's saved state: foreign, truncated or trailing bytes are rejected", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    BdptIntegrator a(autoOptions(-1));
+    Film film(16, 16);
+    RenderOptions o;
+    o.width = o.height = 16;
+    o.spp = 3;
+    render(*scene, a, o, film);
+    const std::string state = a.saveState();
+    BdptIntegrator b(autoOptions(-1));
+    CHECK_NOTHROW(b.loadState(state));
+    CHECK_THROWS_AS(b.loadState("not a state"), std::runtime_error);
+    CHECK_THROWS_AS(b.loadState(state.substr(0, state.size() - 5)), std::runtime_error);
+    CHECK_THROWS_AS(b.loadState(state + "x"), std::runtime_error);
+    std::string bad = state;
+    bad[4] = char(100);  // chosen = 100: no such candidate
+    CHECK_THROWS_AS(b.loadState(bad), std::runtime_error);
+    // A fixed tracer keeps no state and takes none.
+    BdptIntegrator fixed(BdptOptions{});
+    CHECK(fixed.saveState().empty());
+    CHECK_THROWS_AS(fixed.loadState(state), std::runtime_error);
+}

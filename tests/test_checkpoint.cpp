@@ -86,9 +86,18 @@ TEST_CASE("checkpoint: a new checkpoint replaces the old one whole", "[checkpoin
     CHECK(dir.count() == 2);  // a.ckpt and d.ckpt only
 }
 
+TEST_CASE("checkpoint: the integrator's state comes back byte for byte", "[checkpoint]") {
+    TempDir dir;
+    const std::string state("state\0with a zero and \xff", 25);
+    writeCheckpoint(dir / "s.ckpt", "/s.gltf", kSettings, sampleFilm(true), 5, state);
+    CHECK(readCheckpoint(dir / "s.ckpt").integratorState == state);
+    writeCheckpoint(dir / "e.ckpt", "/s.gltf", kSettings, sampleFilm(false), 5);
+    CHECK(readCheckpoint(dir / "e.ckpt").integratorState.empty());
+}
+
 TEST_CASE("checkpoint: every truncation and every flipped byte is an error", "[checkpoint]") {
     TempDir dir;
-    writeCheckpoint(dir / "good.ckpt", "/s.gltf", kSettings, sampleFilm(true), 5);
+    writeCheckpoint(dir / "good.ckpt", "/s.gltf", kSettings, sampleFilm(true), 5, "some state");
     const std::string good = readFile(dir / "good.ckpt");
     REQUIRE(good.size() > 100);
     const std::string bad = dir / "bad.ckpt";
@@ -116,9 +125,9 @@ TEST_CASE("checkpoint: every truncation and every flipped byte is an error", "[c
     writeFile(bad, "P6\n3 2\n255\n............................");
     CHECK_THROWS_WITH(readCheckpoint(bad), Catch::StartsWith(bad) && Catch::Contains("not a brume checkpoint"));
     std::string version = good;
-    version[8] = 2;
+    version[8] = 1;  // a checkpoint from before integrators kept state
     writeFile(bad, version);
-    CHECK_THROWS_WITH(readCheckpoint(bad), Catch::Contains("version 2"));
+    CHECK_THROWS_WITH(readCheckpoint(bad), Catch::Contains("checkpoint version 1, this brume reads version 2"));
     CHECK_THROWS_WITH(readCheckpoint(dir / "missing.ckpt"), Catch::Contains("missing.ckpt"));
     CHECK_THROWS_WITH(readCheckpoint(dir.path().string()), Catch::Contains("directory"));
 }

@@ -106,7 +106,7 @@ Args operator+(Args a, const Args& b) {
 }  // namespace
 
 TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as straight through", "[cli][checkpoint]") {
-    for (const char* integrator : {"pt", "bdpt"}) {
+    for (const char* integrator : {"pt", "bdpt", "auto"}) {
         INFO("--integrator " << integrator);
         TempDir dir;
         const Args common = Args{data("bdpt_quad_fogbox.gltf"), "--integrator", integrator} + kSmall;
@@ -148,6 +148,24 @@ TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as str
         CHECK(brume::readImage(dir / "b.exr", &w, &h) == brume::readImage(dir / "straight.exr", &w, &h));
         CHECK(brume::readImage(dir / "b.exr", &w, &h) == brume::readImage(dir / "straight.pfm", &w, &h));
         CHECK(fs::exists(ckpt));  // --resume alone leaves it (nothing named it --checkpoint)
+    }
+}
+
+// auto's pilot ends after pass 6 (allocation_planner.h): stopped in the pilot, just after the
+// choice and after a pass of the chosen allocation, it resumes to the same bytes.
+TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[cli][checkpoint][auto]") {
+    TempDir dir;
+    const Args common = {data("bdpt_quad_fogbox.gltf"), "--res", "40x30", "--spp", "9"};
+    const std::string ckpt = dir / "c.ckpt";
+    Result r = run(common + Args{"-o", dir / "straight.pfm"});
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("allocation: ") != std::string::npos);
+    for (const char* stop : {"5", "6", "7"}) {
+        INFO("stopped after " << stop << " passes");
+        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
     }
 }
 

@@ -222,7 +222,7 @@ Checkpoint readCheckpoint(const std::string& path) {
     const uint64_t expected = 8 * values * (hasSplats ? 2 : 1) + 8;
     if (stateBytes > r.remaining()) fail(path, "truncated checkpoint");
     if (r.remaining() - stateBytes != expected)
-        fail(path, r.remaining() < expected ? "truncated checkpoint" : "corrupt checkpoint (trailing bytes)");
+        fail(path, r.remaining() - stateBytes < expected ? "truncated checkpoint" : "corrupt checkpoint (trailing bytes)");
     std::vector<double> sums = r.doubles(size_t(values));
     std::vector<double> splats;
     if (hasSplats) splats = r.doubles(size_t(values));

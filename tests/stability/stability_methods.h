@@ -1,6 +1,7 @@
-// The six light-transport methods the stability suite runs on every scene: the path tracer and
-// the bidirectional path tracer, each with the three --connect modes, named as `brume bench`
-// names them (pt:density … bdpt:mis).
+// The seven light-transport methods the stability suite runs on every scene: the path tracer and
+// the bidirectional path tracer, each with the three --connect modes, and the efficiency-aware
+// tracer (`brume render`'s default), named as `brume bench` names them (pt:density … bdpt:mis,
+// auto).
 #pragma once
 #include <memory>
 #include <string>
@@ -14,27 +15,31 @@ namespace brume::test {
 struct Method {
     bool bdpt = false;
     ConnectMode connect = ConnectMode::Mis;
+    bool automatic = false;  // the efficiency-aware tracer (bdpt, --connect mis)
 
     std::string name() const {
         const char* mode = connect == ConnectMode::Density       ? "density"
                            : connect == ConnectMode::EquiAngular ? "equiangular"
                                                                  : "mis";
+        if (automatic) return "auto";
         return std::string(bdpt ? "bdpt:" : "pt:") + mode;
     }
     std::unique_ptr<Integrator> make(int maxDepth) const {
         if (!bdpt) return std::make_unique<PathTracer>(PathTracerOptions{maxDepth, true, connect});
         BdptOptions o{maxDepth, MisHeuristic::Power};
         o.connect = connect;
+        o.efficiencyAware = automatic;
         return std::make_unique<BdptIntegrator>(o);
     }
 };
 
 inline const Method kPtDensity{false, ConnectMode::Density}, kPtEquiAngular{false, ConnectMode::EquiAngular},
     kPtMis{false, ConnectMode::Mis}, kBdptDensity{true, ConnectMode::Density},
-    kBdptEquiAngular{true, ConnectMode::EquiAngular}, kBdptMis{true, ConnectMode::Mis};
+    kBdptEquiAngular{true, ConnectMode::EquiAngular}, kBdptMis{true, ConnectMode::Mis},
+    kAuto{true, ConnectMode::Mis, true};
 
 inline const std::vector<Method>& allMethods() {
-    static const std::vector<Method> all{kPtDensity, kPtEquiAngular, kPtMis, kBdptDensity, kBdptEquiAngular, kBdptMis};
+    static const std::vector<Method> all{kPtDensity, kPtEquiAngular, kPtMis, kBdptDensity, kBdptEquiAngular, kBdptMis, kAuto};
     return all;
 }
 

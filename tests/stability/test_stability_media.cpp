@@ -18,13 +18,18 @@ TEST_CASE("stability: extremely thin fog", "[stability]") {
     // The reference is bdpt with equi-angular connections. Free flight scatters within 10 m with
     // probability 1e-5, so the density methods see almost none of the fog; and the path tracer
     // continues paths only from free-flight points, so it misses the fog lit by the floor (4-26%
-    // of the fog-only pixels) but for rare spikes.
+    // of the fog-only pixels) but for rare spikes. auto drops the equi-angular variants here,
+    // by design: the fog is 1e-5 of the floor's radiance, far below the relative-error floor
+    // ε = 0.01 of the measure it optimises (brume bench's relative MSE), where they cost time
+    // and buy nothing the measure sees; its fog pixels are then as weak as bdpt:density's
+    // (max |z| 36 there), the floor and the image mean are right.
     runStabilityCase(StabilityCase("thin", "thin.gltf")
                          .referenceMethod(kBdptEquiAngular)
                          .weakMethod(kPtDensity, 0.017, 0.001, true)
                          .weakMethod(kPtEquiAngular, 0.016, 0.001, true)
                          .weakMethod(kPtMis, 0.016, 0.001, true)
-                         .weakMethod(kBdptDensity, 0.042, 0.001, true));
+                         .weakMethod(kBdptDensity, 0.042, 0.001, true)
+                         .weakMethod(kAuto, 0.042, 0.001, true));
 }
 
 TEST_CASE("stability: g = +0.999", "[stability]") {

@@ -152,6 +152,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
     if (a.integrator != "pt" && a.integrator != "bdpt" && a.integrator != "auto")
         throw UsageError("unknown integrator '" + a.integrator + "' (available: auto, bdpt, pt)");
+    if (a.integrator == "auto" && a.connect == ConnectMode::EquiAngular)
+        throw UsageError("--connect equiangular needs --integrator bdpt or pt (auto chooses the equi-angular variants "
+                         "itself, with mis, or goes without them, with density)");
     if (!a.allocation.empty()) {
         if (a.integrator != "bdpt") throw UsageError("--allocation needs --integrator bdpt");
         BdptAllocation chosen;

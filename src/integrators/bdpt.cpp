@@ -31,6 +31,9 @@ struct Subpaths {
 
 BdptIntegrator::BdptIntegrator(BdptOptions options) : options_(options) {
     if (options_.efficiencyAware) {
+        // (Its statistics need the equi-angular variants to add to the free-flight ones.)
+        if (options_.connect == ConnectMode::EquiAngular)
+            throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect);
         planner_->allocationFor(0).applyTo(options_);
     }

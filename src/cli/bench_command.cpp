@@ -29,6 +29,7 @@
 #include "brume/cli/build_identity.h"
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
+#include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
@@ -669,6 +670,10 @@ int runBench(const std::vector<std::string>& argv) {
             std::printf("%-*s  %-*s  %8s  %8.3f  %6d  %11.4e  %11.4e  %11s\n", sw, sceneLabel.c_str(), mw,
                         method->name.c_str(), format("%g", budget).c_str(), row.seconds, row.spp, row.error.relMse,
                         row.error.rmse, format("%.4g", row.efficiency).c_str());
+            // The efficiency-aware tracer's choice, on a line of its own (CSV columns stay as they are).
+            if (const auto* bdpt = dynamic_cast<const BdptIntegrator*>(integrator.get()))
+                if (const AllocationPlanner* planner = bdpt->planner())
+                    std::printf("%-*s  %-*s  %8s  %s\n", sw, "", mw, "", "", planner->summaryLine().c_str());
             std::fflush(stdout);
             if (budget == largest) {
                 std::string path = (dir / (methodFileStem(method->name) + ".exr")).string();

@@ -16,10 +16,10 @@
 //   then          the chosen allocation, for good, with the sampler asked for.
 // Estimated relative variance of one pass: V_j = V_pilot + M_j − M_pilot, summed over pixels
 // and channels with the weights (M alone misses the squared mean and the covariance between
-// path lengths; both are taken as the pilot's). Cost: rays per pass, each part of the pilot's
-// counted once per ray, the parts a candidate drops left out and general connections scaled
-// by their probability; a deterministic stand-in for time, which would make the image depend
-// on the machine's load. Every number comes from completed passes summed in tile order, so the
+// path lengths; both are taken as the pilot's). Cost: the rays each part of the pilot's samples
+// traced, each part weighted by the measured cost of one of its rays (cost()), the parts a
+// candidate drops left out and general connections scaled by their probability; a
+// deterministic stand-in for time, which would make the image depend on the machine's load. Every number comes from completed passes summed in tile order, so the
 // choice is the same for any thread count, and it is kept in checkpoints (saveState).
 #pragma once
 #include <cstdint>

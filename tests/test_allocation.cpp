@@ -12,6 +12,7 @@
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/scene/camera_importance.h"
+#include "support/block_z.h"
 #include "support/film_estimates.h"
 #include "support/single_scatter_reference.h"
 
@@ -37,27 +38,6 @@ BdptOptions forcedOptions(int maxDepth, const BdptAllocation& a) {
     return o;
 }
 
-// Worst |z| over blocks and channels against a per-block reference; `where` names it.
-template <class Ref>
-double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::vector<bool>& skip, Ref reference,
-              std::string* where) {
-    double worst = 0;
-    for (size_t i = 0; i < px.size(); ++i) {
-        if (skip[i]) continue;
-        Vec3 ref = reference(int(i) % blocksWide, int(i) / blocksWide);
-        for (int c = 0; c < 3; ++c) {
-            double se = px[i].stderror(c), diff = std::abs(px[i].mean(c) - ref[c]);
-            double z = se > 0 ? diff / se : (diff > 1e-5 * std::max(1.0, double(std::abs(ref[c]))) ? 1e9 : 0.0);
-            if (z > worst) {
-                worst = z;
-                *where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": " +
-                         std::to_string(px[i].mean(c)) + " ± " + std::to_string(px[i].stderror(c)) + " vs " +
-                         std::to_string(ref[c]);
-            }
-        }
-    }
-    return worst;
-}
 
 double furnaceZ(const Scene& scene, Integrator& integrator, int spp, uint64_t seed, std::string* where) {
     auto px = estimateFilm(scene, integrator, 8, 8, spp, kBatches, seed, 2);
@@ -195,7 +175,7 @@ TEST_CASE("auto's state carries a render across a stop bit for bit", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     const int W = 40, H = 30, spp = 9;
     Rendered straight = renderAuto(*scene, W, H, spp, 2);
-    for (int stop : {1, 3, 6, 7}) {
+    for (int stop : {1, 3, 4, 5}) {
         RenderOptions o;
         o.width = W;
         o.height = H;

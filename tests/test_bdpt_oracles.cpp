@@ -10,6 +10,7 @@
 
 #include "brume/integrators/bdpt.h"
 #include "brume/scene/camera_importance.h"
+#include "support/block_z.h"
 #include "support/film_estimates.h"
 #include "support/single_scatter_reference.h"
 
@@ -27,28 +28,6 @@ BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode, float generalConnection 
     return BdptIntegrator(o);
 }
 
-// Worst |z| of the estimates (block × block pixel averages of a W × W image) against a
-// reference per block, skipping masked blocks; `where` describes the worst one.
-template <class Ref>
-double worstZ(const std::vector<PixelEstimate>& px, int blocksWide, const std::vector<bool>& skip, Ref reference,
-              std::string* where) {
-    double worst = 0;
-    for (size_t i = 0; i < px.size(); ++i) {
-        if (skip[i]) continue;
-        Vec3 ref = reference(int(i) % blocksWide, int(i) / blocksWide);
-        for (int c = 0; c < 3; ++c) {
-            double se = px[i].stderror(c), diff = std::abs(px[i].mean(c) - ref[c]);
-            double z = se > 0 ? diff / se : (diff > 1e-5 * std::max(1.0, double(std::abs(ref[c]))) ? 1e9 : 0.0);
-            if (z > worst) {
-                worst = z;
-                *where = "block (" + std::to_string(int(i) % blocksWide) + "," + std::to_string(int(i) / blocksWide) +
-                         ") channel " + std::to_string(c) + ": " + std::to_string(px[i].mean(c)) + " ± " +
-                         std::to_string(px[i].stderror(c)) + " vs " + std::to_string(ref[c]);
-            }
-        }
-    }
-    return worst;
-}
 
 // Per 2×2 block of a W × W image: the quadrature averaged over a 16×16 grid of film
 // positions, with anisotropy g; `skip` marks the block holding an in-view point light. (The

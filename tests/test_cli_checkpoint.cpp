@@ -151,7 +151,7 @@ TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as str
     }
 }
 
-// auto's pilot ends after pass 6 (allocation_planner.h): stopped in the pilot, just after the
+// auto's pilot ends after its fourth pass (allocation_planner.h): stopped in the pilot, just after the
 // choice and after a pass of the chosen allocation, it resumes to the same bytes.
 TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[cli][checkpoint][auto]") {
     TempDir dir;
@@ -160,7 +160,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     Result r = run(common + Args{"-o", dir / "straight.pfm"});
     REQUIRE(r.code == 0);
     CHECK(r.out.find("allocation: ") != std::string::npos);
-    for (const char* stop : {"5", "6", "7"}) {
+    for (const char* stop : {"3", "4", "5"}) {
         INFO("stopped after " << stop << " passes");
         REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
         r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});

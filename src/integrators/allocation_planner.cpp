@@ -18,7 +18,7 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 }  // namespace
 
 AllocationPlanner::AllocationPlanner(ConnectMode connect) : candidates_(candidateAllocations(connect)) {
-    static_assert(PathStats::kSums >= 18, "a moment per candidate");
+    static_assert(PathStats::kSums >= 19, "a moment per candidate");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
     for (size_t j = 0; j < candidates_.size(); ++j)
@@ -88,7 +88,17 @@ void AllocationPlanner::endPass(const PassSummary& s) {
 // the free-flight light connection, made in every allocation, tied to the camera-walk ray):
 // predicted/measured within 12 % for the median allocation and 36 % for the worst, where
 // plain ray counts were off by 19 % and 76 % (docs/results.md).
+//
+// The path tracer: the cost of the bidirectional tracer's same strategies ("pt+ea") times
+// kPathTracerCost, measured on bench_fog_room and area_hall (160x120, unlimited depth:
+// pt:mis samples per second over those of `bdpt --allocation pt+ea`).
 double AllocationPlanner::cost(const BdptAllocation& a) const {
+    constexpr double kPathTracerCost = 0.57;
+    if (a.pathTracer) {
+        BdptAllocation same = a;
+        same.pathTracer = false;
+        return kPathTracerCost * cost(same);
+    }
     constexpr double kSample = 10.6, kCameraWalk = 1.0, kLightWalk = 2.71, kLightConnection = 1.0,
                      kLightConnectionEa = 4.50, kCameraConnection = 3.07, kCameraConnectionEa = 5.71,
                      kGeneralConnection = 2.54;

@@ -29,7 +29,8 @@ struct Subpaths {
 
 }  // namespace
 
-BdptIntegrator::BdptIntegrator(BdptOptions options) : options_(options) {
+BdptIntegrator::BdptIntegrator(BdptOptions options)
+    : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect}) {
     if (options_.efficiencyAware) {
         // (Its statistics need the equi-angular variants to add to the free-flight ones.)
         if (options_.connect == ConnectMode::EquiAngular)
@@ -63,6 +64,7 @@ void BdptIntegrator::loadState(const std::string& state) {
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
                                           Sampler& sampler, PathStats& stats, SplatList& splats) const {
+    if (options_.pathTracer) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
     thread_local Subpaths paths;
     PathVertex* camera = paths.camera.data();
     PathVertex* light = paths.light.data();

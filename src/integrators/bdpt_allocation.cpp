@@ -6,6 +6,7 @@ namespace brume {
 
 std::string BdptAllocation::name() const {
     std::string ea = std::string(equiAngularLight ? "L" : "") + (lightSubpaths && lightTracing && equiAngularCamera ? "C" : "");
+    if (pathTracer) return "path tracer";
     if (!lightSubpaths) return equiAngularLight ? "pt+ea" : "pt";
     char p[16];
     std::snprintf(p, sizeof p, "%g", double(generalConnection));
@@ -18,11 +19,12 @@ void BdptAllocation::applyTo(BdptOptions& o) const {
     o.generalConnection = generalConnection;
     o.equiAngularLight = equiAngularLight;
     o.equiAngularCamera = equiAngularCamera;
+    o.pathTracer = pathTracer;
 }
 
 bool BdptAllocation::operator==(const BdptAllocation& o) const {
     return lightSubpaths == o.lightSubpaths && lightTracing == o.lightTracing && generalConnection == o.generalConnection &&
-           equiAngularLight == o.equiAngularLight && equiAngularCamera == o.equiAngularCamera;
+           equiAngularLight == o.equiAngularLight && equiAngularCamera == o.equiAngularCamera && pathTracer == o.pathTracer;
 }
 
 BdptAllocation pilotAllocation() { return BdptAllocation{}; }
@@ -39,6 +41,7 @@ std::vector<BdptAllocation> candidateAllocations(ConnectMode connect) {
         out.push_back(a);
     };
     for (bool eaLight : {true, false}) add(BdptAllocation{false, false, 0.0f, eaLight, false});
+    add(BdptAllocation{false, false, 0.0f, true, false, true});
     for (float p : {0.25f, 1.0f, 0.0f})
         for (bool eaLight : {true, false})
             for (bool eaCamera : {true, false}) add(BdptAllocation{true, true, p, eaLight, eaCamera});

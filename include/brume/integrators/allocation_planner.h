@@ -6,11 +6,11 @@
 // importance sampling for bidirectional rendering algorithms" (SIGGRAPH 2022).
 //
 // Schedule, by the film's pass index:
-//   passes 0–5    pilot, with independent samples; passes 0 and 1 give each pixel's weight
-//                 1/(Ī² + ε) (Ī: their mean, box-filtered 5×5; ε = 0.01 as in `brume bench`'s
-//                 relative MSE); the spread of the six passes' values gives the pilot's own
+//   passes 0–3    pilot, with independent samples; pass 0 gives each pixel's weight
+//                 1/(Ī² + ε) (Ī: its value box-filtered 5×5; ε = 0.01 as in `brume bench`'s
+//                 relative MSE); the spread of the four passes' values gives the pilot's own
 //                 relative variance V_pilot;
-//   passes 2–5    also: every second pixel in x and y records its contributions, for the
+//   passes 1–3    also: every second pixel in x and y records its contributions, for the
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays;
 //   then          the chosen allocation, for good, with the sampler asked for.
@@ -33,7 +33,7 @@ namespace brume {
 
 class AllocationPlanner {
 public:
-    static constexpr int kWeightPasses = 2, kCollectPasses = 4;
+    static constexpr int kWeightPasses = 1, kCollectPasses = 3;
     static constexpr int kDecisionPass = kWeightPasses + kCollectPasses - 1;  // decided after it
 
     explicit AllocationPlanner(ConnectMode connect);

@@ -59,6 +59,9 @@ struct BdptOptions {
     // as it is made, so every allocation is unbiased wherever its strategies cover the paths.
     bool lightSubpaths = true, lightTracing = true;
     bool equiAngularLight = true, equiAngularCamera = true;
+    // Every sample rendered by the volumetric path tracer (path_tracer.h, this maxDepth and
+    // connect mode) instead: the allocation "path tracer" (bdpt_allocation.h).
+    bool pathTracer = false;
     // The efficiency-aware tracer (`--integrator auto`): the allocation above is replaced pass
     // by pass by the planner's (allocation_planner.h): the pilot's, then the chosen one.
     // (Without the camera walk's pass-through at the last scattering event --max-depth allows,
@@ -106,6 +109,7 @@ private:
     BdptOptions options_;
     StrategyCounts lastPass_, total_;
     std::unique_ptr<AllocationPlanner> planner_;
+    PathTracer pathTracer_;  // for BdptOptions::pathTracer
     bool collecting_ = false;  // this pass records statistics (planner_)
 };
 

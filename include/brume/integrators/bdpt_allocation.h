@@ -17,6 +17,11 @@ struct BdptAllocation {
     float generalConnection = 0.25f;  // probability of each general connection (s, t ≥ 2)
     bool equiAngularLight = true;     // equi-angular variants of light connections (s = 1)
     bool equiAngularCamera = true;    // equi-angular variants of camera connections (t = 1)
+    // The volumetric path tracer itself (`pt`, with --connect mis or density) instead of the
+    // bidirectional tracer without light subpaths: the same strategies, at less cost per
+    // sample. To the statistics it is "pt+ea" (or "pt"); to the cost model, that times
+    // kPathTracerCost.
+    bool pathTracer = false;
 
     // Short and stable, e.g. "pt+ea" or "bdpt lt p=0.25 ea=LC"; used in reports and by
     // --allocation.
@@ -30,6 +35,7 @@ BdptAllocation pilotAllocation();
 
 // The candidates for a connect mode (density: no equi-angular variants), the pilot among them.
 //   no light subpaths:  equi-angular light connections on or off                      (2)
+//                       the path tracer                                                (1)
 //   light subpaths:     light tracing on:  p ∈ {0, 1/4, 1} × ea light × ea camera      (12)
 //                       light tracing off: p ∈ {1/4, 1} × ea light                      (4)
 std::vector<BdptAllocation> candidateAllocations(ConnectMode connect);

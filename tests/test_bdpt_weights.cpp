@@ -411,6 +411,6 @@ TEST_CASE("bdpt MIS weights under every candidate allocation", "[bdpt][mis][allo
     for (const BdptAllocation& a : candidateAllocations(ConnectMode::Density))
         if (!a.pathTracer) checkWeights("area_sphere.gltf", 4, ConnectMode::Density, false, false, 1, &a);
     const std::vector<BdptAllocation> all = candidateAllocations(ConnectMode::Mis);
-    for (const BdptAllocation& a : {all[0], all[2], all.back()})
+    for (const BdptAllocation& a : {all[0], all[3], all.back()})  // pt+ea, the pilot, the last
         checkWeights("quad_light_fog_chromatic.gltf", 4, ConnectMode::Mis, false, false, 1, &a);
 }

@@ -157,6 +157,23 @@ TEST_CASE("auto keeps light subpaths where only they see the light (a spot throu
         if (!p.candidates()[j].lightSubpaths) CHECK(p.estimates()[j].efficiency == 0);
 }
 
+// The opposite clear case: single scattering from a point light in open fog, where light
+// subpaths add nothing the equi-angular light connections do not already give, and the path
+// tracer makes those for about half the cost: auto falls back to it.
+TEST_CASE("auto falls back to the path tracer for single scattering in open fog", "[auto]") {
+    auto scene = loadTestScene("single_near.gltf");
+    BdptIntegrator integrator(autoOptions(1));
+    Film film(32, 32);
+    RenderOptions o;
+    o.width = o.height = 32;
+    o.spp = 8;
+    render(*scene, integrator, o, film);
+    const AllocationPlanner& p = *integrator.planner();
+    INFO(p.report());
+    REQUIRE(p.decided());
+    CHECK(p.chosen().pathTracer);
+}
+
 TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     Rendered one = renderAuto(*scene, 40, 30, 9, 1);

@@ -284,3 +284,28 @@ TEST_CASE("cli: every bundled scene renders with no non-finite samples, pt and b
             CHECK(std::stoi(m[2]) > 0);
         }
 }
+
+// The default integrator is auto: it says what it chose; --stats lists the candidates;
+// --allocation forces one of them on bdpt and names the others when it does not know one.
+TEST_CASE("cli: auto reports its choice; --allocation forces a candidate", "[cli][auto]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    Result r = runBrume("render " + scene + " -o " + quote(dir / "a.pfm") + " --res 16x12 --spp 6");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("\nallocation: ") != std::string::npos);
+    r = runBrume("render " + scene + " -o " + quote(dir / "a.pfm") + " --res 16x12 --spp 6 --stats");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("chosen") != std::string::npos);
+    CHECK(r.out.find("pilot, rays per pass") != std::string::npos);
+    r = runBrume("render " + scene + " -o " + quote(dir / "b.pfm") + " --res 16x12 --spp 2 --integrator bdpt --allocation 'pt+ea'");
+    CHECK(r.code == 0);
+    CHECK(r.out.find("allocation: ") == std::string::npos);
+    r = runBrume("render " + scene + " -o " + quote(dir / "c.pfm") + " --res 16x12 --integrator bdpt --allocation nonsense");
+    CHECK(r.code == 2);
+    CHECK(r.err.find("unknown allocation 'nonsense'") != std::string::npos);
+    CHECK(r.err.find("'bdpt lt p=0.25 ea=LC'") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir / "c.pfm"));
+    r = runBrume("render " + scene + " -o " + quote(dir / "c.pfm") + " --res 16x12 --allocation pt");
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--allocation needs --integrator bdpt") != std::string::npos);
+}

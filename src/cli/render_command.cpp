@@ -152,9 +152,6 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
     if (a.integrator != "pt" && a.integrator != "bdpt" && a.integrator != "auto")
         throw UsageError("unknown integrator '" + a.integrator + "' (available: auto, bdpt, pt)");
-    if (a.integrator == "auto" && a.connect == ConnectMode::EquiAngular)
-        throw UsageError("--connect equiangular needs --integrator bdpt or pt (auto chooses the equi-angular variants "
-                         "itself, with mis, or goes without them, with density)");
     if (!a.allocation.empty()) {
         if (a.integrator != "bdpt") throw UsageError("--allocation needs --integrator bdpt");
         BdptAllocation chosen;
@@ -319,7 +316,9 @@ int runRender(const std::vector<std::string>& argv) {
         allocationNamed(a.allocation, a.connect, &chosen);
         chosen.applyTo(bdptOptions);
     }
-    bdptOptions.efficiencyAware = a.integrator == "auto";
+    // auto's statistics need equi-angular variants that add to the free-flight ones (mis) or
+    // none (density): with --connect equiangular it renders as bdpt, every strategy on.
+    bdptOptions.efficiencyAware = a.integrator == "auto" && a.connect != ConnectMode::EquiAngular;
     std::unique_ptr<Integrator> integratorPtr;
     if (a.integrator != "pt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);
@@ -403,7 +402,8 @@ int runRender(const std::vector<std::string>& argv) {
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
     // With auto, the strategy images are those of the allocation it chose.
-    const AllocationPlanner* planner = a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;
+    const AllocationPlanner* planner =
+        a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;  // (null: bdpt)
     if (planner) {
         planner->chosen().applyTo(bdptOptions);
         bdptOptions.efficiencyAware = false;

@@ -18,7 +18,7 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 }  // namespace
 
 AllocationPlanner::AllocationPlanner(ConnectMode connect) : candidates_(candidateAllocations(connect)) {
-    static_assert(PathStats::kSums >= 19, "a moment per candidate");
+    static_assert(PathStats::kSums >= 21, "a moment per candidate, and the path tracer's probe");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
     for (size_t j = 0; j < candidates_.size(); ++j)
@@ -123,10 +123,12 @@ double AllocationPlanner::cost(const BdptAllocation& a) const {
 void AllocationPlanner::decide() {
     // The pilot's variance of one pass, measured: per pixel and channel, the unbiased sample
     // variance of its (independent) pilot passes, weighted.
-    double pilotVariance = 0;
+    double pilotVariance = 0, pilotSecond = 0, pilotMean = 0;
     for (size_t i = 0; i < sum_.size(); ++i) {
         const double n = passes_, v = (sumSq_[i] - sum_[i] * sum_[i] / n) / (n - 1);
         pilotVariance += double(weights_[i]) * std::max(v, 0.0);
+        pilotSecond += double(weights_[i]) * sumSq_[i] / n;
+        pilotMean += double(weights_[i]) * sum_[i] / n;
     }
     // Each candidate's, by the difference of second moments: V_j = V_pilot + M_j − M_pilot
     // (the mean, and the covariances between path lengths that M leaves out, are the
@@ -139,8 +141,20 @@ void AllocationPlanner::decide() {
         const double m = moments_[j] * scale;
         Estimate& e = estimates_[j];
         // (Kept above a hundredth of the pilot's where noise would make it negative.)
-        e.variance = std::isfinite(m) ? std::max(pilotVariance + m - pilotMoment, 1e-2 * pilotVariance)
-                                      : std::numeric_limits<double>::infinity();
+        // The path tracer: as "pt+ea" (the same strategies), or in coloured media its own
+        // probe where that saw as much light as the pilot (header).
+        double difference = m - pilotMoment;
+        if (candidates_[j].pathTracer) {
+            BdptAllocation same = candidates_[j];
+            same.pathTracer = false;
+            for (size_t k = 0; k < candidates_.size(); ++k)
+                if (candidates_[k] == same) difference = moments_[k] * scale - pilotMoment;
+            const bool probeSawAll = moments_[kPathTracerProbeMean] * scale >= 0.9 * pilotMean;
+            if (channels_ > 1 && std::isfinite(difference) && probeSawAll)
+                difference = moments_[kPathTracerProbe] * scale - pilotSecond;
+        }
+        e.variance = std::isfinite(difference) ? std::max(pilotVariance + difference, 1e-2 * pilotVariance)
+                                               : std::numeric_limits<double>::infinity();
         e.cost = cost(candidates_[j]);
         e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);

@@ -42,8 +42,9 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
 
 BdptIntegrator::~BdptIntegrator() = default;
 
-void BdptIntegrator::beginPass(const Scene&, int pass) {
+void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     if (!planner_) return;
+    planner_->setChannels(scene.mediumChannels());
     planner_->allocationFor(pass).applyTo(options_);
     collecting_ = planner_->collects(pass);
 }
@@ -148,9 +149,20 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             }
         }
     }
-    if (collect)
+    if (collect) {
+        const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
-                          std::min(px, width - 1), std::min(py, height - 1), stats.sums);
+                          ox, oy, stats.sums);
+        // In coloured media, the path tracer's probe: one sample of its own, kept out of the
+        // image (allocation_planner.h).
+        const Spectrum probe = channels > 1 ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);
+        const float* w = planner_->weights().at(ox, oy);
+        if (isFinite(probe))
+            for (int ch = 0; ch < 3; ++ch) {
+                stats.sums[AllocationPlanner::kPathTracerProbe] += double(w[ch]) * double(probe[ch]) * double(probe[ch]);
+                stats.sums[AllocationPlanner::kPathTracerProbeMean] += double(w[ch]) * double(probe[ch]);
+            }
+    }
     return L;
 }
 

@@ -16,7 +16,16 @@
 //   then          the chosen allocation, for good, with the sampler asked for.
 // Estimated relative variance of one pass: V_j = V_pilot + M_j − M_pilot, summed over pixels
 // and channels with the weights (M alone misses the squared mean and the covariance between
-// path lengths; both are taken as the pilot's). Cost: the rays each part of the pilot's samples
+// path lengths; both are taken as the pilot's). The path tracer is another estimator, not a
+// re-weighting of the pilot's samples (in coloured media it even picks its channels
+// otherwise): each recording pixel also renders one path-tracer sample L that goes nowhere
+// but into Σ w·L², and V_pt = V_pilot + E[w·L²] − E[w·F²], F the pilot's pixel values. That
+// is for coloured media only: in grey media the path tracer is the same estimator as "pt+ea"
+// (the same strategies in the bidirectional tracer), whose re-weighted moment also sees the
+// rare paths the pilot's light subpaths found and a probe of a few passes misses (a caustic
+// that the path tracer finds only by chance would look less noisy, being black there); in
+// coloured media too the probe is set aside for pt+ea's moment when its mean falls more than
+// 10 % short of the pilot's, and pt+ea's bias (an infinite moment) rules it out. Cost: the rays each part of the pilot's samples
 // traced, each part weighted by the measured cost of one of its rays (cost()), the parts a
 // candidate drops left out and general connections scaled by their probability; a
 // deterministic stand-in for time, which would make the image depend on the machine's load. Every number comes from completed passes summed in tile order, so the
@@ -35,8 +44,12 @@ class AllocationPlanner {
 public:
     static constexpr int kWeightPasses = 1, kCollectPasses = 3;
     static constexpr int kDecisionPass = kWeightPasses + kCollectPasses - 1;  // decided after it
+    // The PathStats sums that take Σ w·L² and Σ w·L of the path tracer's probe samples (below).
+    static constexpr int kPathTracerProbe = PathStats::kSums - 1, kPathTracerProbeMean = PathStats::kSums - 2;
 
     explicit AllocationPlanner(ConnectMode connect);
+    // The scene's Scene::mediumChannels() (1 without coloured media), told before each pass.
+    void setChannels(int channels) { channels_ = channels; }
 
     // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
     const BdptAllocation& allocationFor(int pass) const;
@@ -75,6 +88,7 @@ private:
 
     std::vector<BdptAllocation> candidates_;
     int pilot_ = 0;
+    int channels_ = 1;
     int chosen_ = -1;
     int width_ = 0, height_ = 0;
     std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far

@@ -118,7 +118,7 @@ TEST_CASE("auto: single scattering matches 1D quadrature", "[auto][oracle]") {
 }
 
 // Each allocation forced for whole renders, so that one the planner rarely picks is tested too.
-TEST_CASE("every candidate allocation, forced: furnace and single scattering", "[auto][oracle][allocation]") {
+TEST_CASE("every candidate allocation, forced: furnace and single scattering", "[auto][oracle][allocation][heavy]") {
     auto furnace = loadTestScene("furnace_albedo.gltf");
     auto single = loadTestScene("single_near.gltf");
     SingleNear oracle(*single);

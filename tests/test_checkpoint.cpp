@@ -88,7 +88,8 @@ TEST_CASE("checkpoint: a new checkpoint replaces the old one whole", "[checkpoin
 
 TEST_CASE("checkpoint: the integrator's state comes back byte for byte", "[checkpoint]") {
     TempDir dir;
-    const std::string state("state\0with a zero and \xff", 25);
+    const char raw[] = "state\0with a zero and \xff";
+    const std::string state(raw, sizeof raw - 1);
     writeCheckpoint(dir / "s.ckpt", "/s.gltf", kSettings, sampleFilm(true), 5, state);
     CHECK(readCheckpoint(dir / "s.ckpt").integratorState == state);
     writeCheckpoint(dir / "e.ckpt", "/s.gltf", kSettings, sampleFilm(false), 5);

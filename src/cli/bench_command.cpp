@@ -214,11 +214,11 @@ BenchChoice namedChoice(const std::string& what, const std::string& item) {
         if (item.size() > n && item.compare(item.size() - n, n, suffix) == 0) {
             const BenchMethod* m = namedMethod(what, item.substr(0, item.size() - n));
             const SamplerKind kind = parseSamplerKind(what, suffix + 1);
-            return BenchChoice{m, kind, kind == SamplerKind::Sobol ? std::string(m->name) : item};
+            return BenchChoice{m, kind, kind == SamplerKind::Sobol ? std::string(m->name) : item, std::string()};
         }
     }
     const BenchMethod* m = namedMethod(what, item);
-    return BenchChoice{m, SamplerKind::Sobol, m->name};
+    return BenchChoice{m, SamplerKind::Sobol, m->name, std::string()};
 }
 
 // The command line; false if help was asked for (and printed).
@@ -288,7 +288,7 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
     if (a.outDir.empty()) throw UsageError("bench: no output directory given (--out DIR)");
     if (!methodsGiven)
         for (const BenchMethod& m : kMethods)
-            if (m.byDefault) a.methods.push_back(BenchChoice{&m, SamplerKind::Sobol, m.name});
+            if (m.byDefault) a.methods.push_back(BenchChoice{&m, SamplerKind::Sobol, m.name, std::string()});
     if (!budgetsGiven) a.budgets = {1, 2, 4};
     if (!a.referenceMethod) a.referenceMethod = findMethod(kReferenceMethod);
     if (!a.reference.empty()) {

@@ -8,14 +8,6 @@
 
 namespace brume {
 
-MisSettings allocationSettings(MisSettings st, const BdptAllocation& a) {
-    st.generalConnection = a.lightSubpaths ? a.generalConnection : 0.0;
-    st.cameraConnection = a.lightSubpaths && a.lightTracing ? 1.0 : 0.0;
-    st.equiAngularLight = a.equiAngularLight;
-    st.equiAngularCamera = a.equiAngularCamera;
-    return st;
-}
-
 namespace {
 
 // u for every record under settings `st`: the subpaths' sums recomputed, then each record's

@@ -40,12 +40,10 @@ struct PixelWeights {
     const float* at(int x, int y) const { return w + 3 * (size_t(y) * size_t(width) + size_t(x)); }
 };
 
-// MisSettings for the allocation `a` on top of `base` (the counts; everything else kept).
-MisSettings allocationSettings(MisSettings base, const BdptAllocation& a);
-
 // Adds to sums[j], for every candidate j, Σ over `records` of Σ_c w_c · value_c² · u(pilot) · u(candidate j)
 // (balance heuristic, the allocations' counts). The sample's subpaths get their MIS sums
-// recomputed for each candidate (they are left with the last candidate's).
+// recomputed for five settings that give every candidate's weights (they are left with the
+// last one's).
 void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* light, int nLight,
                        MisSettings pilot, const std::vector<BdptAllocation>& candidates,
                        const std::vector<WeightRecord>& records, const PixelWeights& weights, int ownX, int ownY,

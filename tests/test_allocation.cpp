@@ -92,6 +92,17 @@ Rendered renderAuto(const Scene& scene, int W, int H, int spp, int threads, int 
     return Rendered{film.rgb(), integrator.planner()->decided() ? integrator.planner()->chosen().name() : "undecided"};
 }
 
+// Renders 8 spp (past the pilot) and returns the planner that chose.
+const AllocationPlanner& plan(const Scene& scene, BdptIntegrator& integrator, int W, int H) {
+    Film film(W, H);
+    RenderOptions o;
+    o.width = W;
+    o.height = H;
+    o.spp = 8;
+    render(scene, integrator, o, film);
+    return *integrator.planner();
+}
+
 }  // namespace
 
 TEST_CASE("auto: furnace, every pixel is 1 (pilot and chosen passes)", "[auto][oracle]") {
@@ -141,13 +152,7 @@ TEST_CASE("every candidate allocation, forced: furnace and single scattering", "
 TEST_CASE("auto keeps light subpaths where only they see the light (a spot through glass)", "[auto]") {
     auto scene = loadTestScene("bdpt_glass_sphere.gltf");
     BdptIntegrator integrator(autoOptions(-1));
-    Film film(32, 24);
-    RenderOptions o;
-    o.width = 32;
-    o.height = 24;
-    o.spp = 8;
-    render(*scene, integrator, o, film);
-    const AllocationPlanner& p = *integrator.planner();
+    const AllocationPlanner& p = plan(*scene, integrator, 32, 24);
     INFO(p.report());
     REQUIRE(p.decided());
     CHECK(p.chosen().lightSubpaths);
@@ -163,12 +168,7 @@ TEST_CASE("auto keeps light subpaths where only they see the light (a spot throu
 TEST_CASE("auto falls back to the path tracer for single scattering in open fog", "[auto]") {
     auto scene = loadTestScene("single_near.gltf");
     BdptIntegrator integrator(autoOptions(1));
-    Film film(32, 32);
-    RenderOptions o;
-    o.width = o.height = 32;
-    o.spp = 8;
-    render(*scene, integrator, o, film);
-    const AllocationPlanner& p = *integrator.planner();
+    const AllocationPlanner& p = plan(*scene, integrator, 32, 32);
     INFO(p.report());
     REQUIRE(p.decided());
     CHECK(p.chosen().pathTracer);

@@ -98,6 +98,8 @@ TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", 
         // Strongly coloured: extinction 0.12 to 1.3 /m (ratio 11).
         {"single_chromatic_strong.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.1f, 0.4f, 1.2f), Vec3(0.02f, 0.05f, 0.1f), 0.3, false},
         {"single_spot.gltf", Vec3(0, 1.5f, -3), grey02, grey005, 0.3, true},
+        // Forward-scattering fog, light in view (product sampling's case).
+        {"single_forward.gltf", Vec3(0.3f, 0.2f, -3), grey02, grey005, 0.9, false},
     };
     const int W = 10, B = 2;
     for (const SingleCase& sc : cases) {

@@ -114,7 +114,9 @@ struct Checker : BdptObserver {
         Vec3 e = v.p - p.p;
         float dist = length(e);
         Vec3 w = e / dist;
-        if (!exact) return equiAngularStandInPdf(p.p, w, anchor, dist);
+        // Product sampling (--connect product|mis): the phase of v's medium in the density.
+        const float g = connectAnisotropy(connect, v.medium->g);
+        if (!exact) return equiAngularStandInPdf(p.p, w, anchor, dist, g);
         // The walk's ray from p's own position, to where its first piece ends.
         Vec3 o = p.p;
         PathStats stats;
@@ -134,7 +136,7 @@ struct Checker : BdptObserver {
         }
         if (toCamera && !clipToFrustum(scene->camera(), kW, kW, o, w, &a, &b)) return 0;
         if (!(a < b)) return 0;
-        return equiAngularPdf(makeEquiAngular(o, w, anchor, a, b), length(v.p - o));
+        return equiAngularPdf(makeEquiAngular(o, w, anchor, a, b, g), length(v.p - o));
     }
 
     // ρ = p_ea / p_ff for x[m] reached from x[m−1] and aimed at x[m+1] (0 if no such variant):
@@ -248,7 +250,7 @@ struct Checker : BdptObserver {
                 long double prod = 1;
                 for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i][c]);
                 for (int i = tt; i <= k; ++i) prod *= remap(rev[i][c]);
-                bool eaOn = rho[c] > 0, ffOn = !(connect == ConnectMode::EquiAngular && eaOn);
+                bool eaOn = rho[c] > 0, ffOn = !(variantOnly(connect) && eaOn);
                 if (lastMediumUnmade && tt - 1 >= m) ffOn = false;  // the camera walk cannot make x(m)
                 // A general connection is made with probability connectP: its densities count that much.
                 if (tt >= 2 && ss >= 2) prod *= connectP;
@@ -342,8 +344,8 @@ TEST_CASE("bdpt MIS weights equal the heuristic over all strategies' path densit
     checkWeights("bdpt_glass_sphere.gltf", 4);  // specular chains, spot light
 }
 
-TEST_CASE("bdpt MIS weights with equi-angular light connections (mis and equiangular modes)", "[bdpt][mis]") {
-    for (ConnectMode m : {ConnectMode::Mis, ConnectMode::EquiAngular}) {
+TEST_CASE("bdpt MIS weights with equi-angular light connections (mis, equiangular and product modes)", "[bdpt][mis]") {
+    for (ConnectMode m : {ConnectMode::Mis, ConnectMode::EquiAngular, ConnectMode::Product}) {
         checkWeights("quad_light_fog.gltf", 4, m);
         checkWeights("single_near.gltf", 4, m);
         checkWeights("single_spot.gltf", 4, m);
@@ -396,6 +398,17 @@ TEST_CASE("bdpt MIS weights through an invisible boundary", "[bdpt][mis]") {
     checkWeights("bdpt_quad_fogbox.gltf", 4);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::Mis);
     checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::EquiAngular);
+    checkWeights("bdpt_quad_fogbox.gltf", 4, ConnectMode::Product);
+}
+
+// Strongly forward- and back-scattering fog: the product densities vary over orders of
+// magnitude along a ray.
+TEST_CASE("bdpt MIS weights with product sampling in anisotropic fog", "[bdpt][mis]") {
+    for (ConnectMode m : {ConnectMode::Mis, ConnectMode::Product}) {
+        checkWeights("single_forward.gltf", 4, m);
+        checkWeights("area_sphere_back.gltf", 4, m);
+        checkWeights("single_forward.gltf", 4, m, true);
+    }
 }
 
 // Every allocation the efficiency-aware tracer may choose (bdpt_allocation.h): strategies

@@ -85,10 +85,11 @@ TEST_CASE("chromatic furnace: pt converges in every channel, every connect mode"
 // edge of the bound; 512 spp. (General connections are made with probability 1/4 by default,
 // which also makes a sample cheaper.) [heavy]: 100 s here; the sanitizer build leaves it out
 // (it passed there when written; the weight checker and the pt cases run the same code under
-// the sanitizers).
+// the sanitizers). Plain equi-angular is product sampling's g = 0 case and mis's part where
+// g = 0; the fog here has g = −0.3, so product covers it (and each mode costs 70 s).
 TEST_CASE("chromatic furnace: bdpt converges in every channel, every connect mode", "[chromatic][bdpt][oracle][heavy]") {
     auto scene = loadTestScene("furnace_chromatic.gltf");
-    for (ConnectMode mode : kConnectModes) {
+    for (ConnectMode mode : {ConnectMode::Density, ConnectMode::Product, ConnectMode::Mis}) {
         BdptOptions opt;
         opt.connect = mode;
         BdptIntegrator bdpt(opt);

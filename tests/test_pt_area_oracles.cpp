@@ -47,6 +47,21 @@ TEST_CASE("single scattering from a sphere light matches quadrature", "[oracle][
     }
 }
 
+TEST_CASE("single scattering from a sphere light in back-scattering fog matches quadrature", "[oracle][pt][area]") {
+    // g = −0.7: the product sampler's mirrored case, and the sphere's light point sampled
+    // after the distance (towards the centre as the anchor).
+    const int W = 8, H = 8;
+    auto scene = loadTestScene("area_sphere_back.gltf");
+    std::vector<double> ref(W * H);
+    for (int i = 0; i < W * H; ++i)
+        ref[i] = sphereReference(referenceCameraDirection(i % W, i / W, W, H, kYfov), Vec3(0.8f, 0.5f, -3), 0.3, 10.0, -0.7);
+    for (ConnectMode mode : kConnectModes) {
+        const char* name = connectModeName(mode);
+        PathTracer pt(PathTracerOptions{1, true, mode});
+        requireAll(estimatePixels(*scene, pt, W, H, 8192, 17), W, ref, std::string("back-scattering sphere ") + name);
+    }
+}
+
 TEST_CASE("single scattering from a one-sided quad light matches quadrature", "[oracle][pt][area]") {
     const int W = 8, H = 8;
     auto scene = loadTestScene("area_quad.gltf");

@@ -69,6 +69,8 @@ TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][
         // Strongly coloured: extinction 0.12 to 1.3 /m (ratio 11).
         {"single_chromatic_strong.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.1f, 0.4f, 1.2f), Vec3(0.02f, 0.05f, 0.1f), 0.3, false},
         {"single_spot.gltf", Vec3(0, 1.5f, -3), grey02, grey005, 0.3, true},
+        // Forward-scattering fog, light in view (product sampling's case).
+        {"single_forward.gltf", Vec3(0.3f, 0.2f, -3), grey02, grey005, 0.9, false},
         // Free-flight samples rarely reach the light here (mean free path 0.4 m, light 3 m
         // away): the density estimator's rare large values make its standard error unreliable
         // at 4096 spp (z ≈ 9 seen on one pixel, mean ratio 0.997), so it gets 16× more.

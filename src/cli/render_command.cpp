@@ -111,13 +111,15 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.maxDepth = int(parseInteger("--max-depth", v, -1, 1000000)); });
     app.add_flag_callback("--no-nee", [&] { a.nee = false; }, "no next-event estimation (BSDF/phase sampling only)");
     addOption(app, "--connect", "MODE",
-              "light connections on medium segments: density (from the free-flight point), equiangular, or "
-              "mis (both; the default); for bdpt: equi-angular variants of connection vertices",
+              "light connections on medium segments: density (from the free-flight point), equiangular, "
+              "product (equi-angular x phase in anisotropic media), or mis (density and product; the "
+              "default); for bdpt: equi-angular variants of connection vertices",
               [&](const std::string& v) {
                   if (v == "density") a.connect = ConnectMode::Density;
                   else if (v == "equiangular") a.connect = ConnectMode::EquiAngular;
+                  else if (v == "product") a.connect = ConnectMode::Product;
                   else if (v == "mis") a.connect = ConnectMode::Mis;
-                  else throw UsageError("--connect: unknown mode '" + v + "' (density, equiangular or mis)");
+                  else throw UsageError("--connect: unknown mode '" + v + "' (density, equiangular, product or mis)");
               });
     addOption(app, "--res", "WxH",
               "image size (default 640 wide, height from the camera's aspect ratio, 640x480 without one)",
@@ -243,6 +245,7 @@ const char* connectName(ConnectMode mode) {
     switch (mode) {
     case ConnectMode::Density: return "density";
     case ConnectMode::EquiAngular: return "equiangular";
+    case ConnectMode::Product: return "product";
     default: return "mis";
     }
 }
@@ -318,7 +321,7 @@ int runRender(const std::vector<std::string>& argv) {
     }
     // auto's statistics need equi-angular variants that add to the free-flight ones (mis) or
     // none (density): with --connect equiangular it renders as bdpt, every strategy on.
-    bdptOptions.efficiencyAware = a.integrator == "auto" && a.connect != ConnectMode::EquiAngular;
+    bdptOptions.efficiencyAware = a.integrator == "auto" && !variantOnly(a.connect);
     std::unique_ptr<Integrator> integratorPtr;
     if (a.integrator != "pt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
     else integratorPtr = std::make_unique<PathTracer>(ptOptions);

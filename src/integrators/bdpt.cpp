@@ -33,8 +33,8 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
     : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect}) {
     if (options_.efficiencyAware) {
         // (Its statistics need the equi-angular variants to add to the free-flight ones.)
-        if (options_.connect == ConnectMode::EquiAngular)
-            throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular");
+        if (variantOnly(options_.connect))
+            throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect);
         planner_->allocationFor(0).applyTo(options_);
     }

@@ -30,7 +30,8 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
     float dist = length(e);
     if (!(dist > 0)) return 0.0;
     Vec3 d = e / dist;
-    if (!st.exactEquiAngular) return equiAngularStandInPdf(prev.p, d, aim.anchor, dist);
+    const float g = connectAnisotropy(st.connect, v.medium->g);
+    if (!st.exactEquiAngular) return equiAngularStandInPdf(prev.p, d, aim.anchor, dist, g);
     // The walk's ray from prev, to the end of its first piece (where the sampler's segment ends).
     bool onSurface = prev.kind == VertexKind::Surface || (prev.kind == VertexKind::Light && dot(prev.ng, prev.ng) > 0);
     PathStats uncounted;
@@ -39,18 +40,18 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
     const Vec3 o = prev.p;
     MediumSegment seg{o, d, first.t1, v.medium};
     EquiAngular ea;
-    if (!equiAngularTowardsAim(scene, aim, seg, st.width, st.height, &ea)) return 0.0;
+    if (!equiAngularTowardsAim(scene, aim, seg, st.width, st.height, g, &ea)) return 0.0;
     return equiAngularPdf(ea, dist);
 }
 
 bool equiAngularTowardsAim(const Scene& scene, const EquiAngularAim& aim, const MediumSegment& seg, int width,
-                           int height, EquiAngular* out) {
-    if (aim.clip) return equiAngularTowards(scene, *aim.clip, aim.anchor, seg, out);
+                           int height, float g, EquiAngular* out) {
+    if (aim.clip) return equiAngularTowards(scene, *aim.clip, aim.anchor, seg, g, out);
     float a = 0, b = seg.tEnd;
     // The camera as a point light: only the part of the ray inside the view frustum can
     // reach the film.
     if (aim.toCamera && !clipToFrustum(scene.camera(), width, height, seg.o, seg.d, &a, &b)) return false;
-    *out = makeEquiAngular(seg.o, seg.d, aim.anchor, a, b);
+    *out = makeEquiAngular(seg.o, seg.d, aim.anchor, a, b, g);
     return true;
 }
 
@@ -58,7 +59,9 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
                        const EquiAngularAim& aim, MisSettings mis, float u, PathVertex* out, double* density) {
     MediumSegment seg{edge.edgeOrigin, edge.edgeDir, edge.edgeEnd, edge.edgeMedium};
     EquiAngular ea;
-    if (!equiAngularTowardsAim(scene, aim, seg, mis.width, mis.height, &ea)) return false;
+    if (!equiAngularTowardsAim(scene, aim, seg, mis.width, mis.height, connectAnisotropy(mis.connect, edge.edgeMedium->g),
+                               &ea))
+        return false;
     float t = sampleEquiAngular(ea, u);
     float pea = equiAngularPdf(ea, t);
     if (!(pea > 0) || !std::isfinite(pea)) return false;

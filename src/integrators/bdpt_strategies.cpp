@@ -124,7 +124,7 @@ StrategyJoin joinOf(const Connection& conn, bool equiAngular, double equiAngular
 // equi-angular variant could have made the same medium vertex, --connect equiangular has it
 // replace the free-flight one.
 bool freeFlightVariantOn(ConnectMode mode, bool real, const PathVertex& v, bool equiAngularOn) {
-    return real && scatters(v) && !(mode == ConnectMode::EquiAngular && equiAngularOn && v.isMedium() && !v.edgeCrossed);
+    return real && scatters(v) && !(variantOnly(mode) && equiAngularOn && v.isMedium() && !v.edgeCrossed);
 }
 
 // Variant 0 (free flight) or 1 (equi-angular), as BdptOptions::onlyVariant allows.
@@ -268,7 +268,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularCamera && yPrev && edge.edgeMedium &&
                       !yPrev->delta && (real || edge.ghost);
     const bool ffOn = real && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
-                      !(c.mis.connect == ConnectMode::EquiAngular && eaOn && edge.isMedium() && !edge.edgeCrossed);
+                      !(variantOnly(c.mis.connect) && eaOn && edge.isMedium() && !edge.edgeCrossed);
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;

@@ -89,7 +89,7 @@ bool clipToSpotCone(const Light& spot, Vec3 o, Vec3 d, float* t0, float* t1) {
     return *t0 < *t1;
 }
 
-bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg,
+bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
                         EquiAngular* out) {
     float a = 0, b = seg.tEnd;
     if (light.kind == LightKind::Spot && !clipToSpotCone(light, seg.o, seg.d, &a, &b)) return false;
@@ -109,7 +109,7 @@ bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, con
         }
     }
     if (!(a < b)) return false;
-    *out = makeEquiAngular(seg.o, seg.d, anchor, a, b);
+    *out = makeEquiAngular(seg.o, seg.d, anchor, a, b, g);
     return true;
 }
 

@@ -55,11 +55,12 @@ struct Vertex {
     }
 };
 
-// Equi-angular density of t on `origin`'s segment for a light whose sampled point is y.
-float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const MediumOrigin& origin) {
+// Equi-angular (or product) density of t on `origin`'s segment for a light whose sampled point is y.
+float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const MediumOrigin& origin, ConnectMode mode) {
     Vec3 anchor = light.kind == LightKind::Triangle ? y : light.position;
     EquiAngular ea;
-    if (!equiAngularTowards(scene, light, anchor, origin.seg, &ea)) return 0.0f;
+    if (!equiAngularTowards(scene, light, anchor, origin.seg, connectAnisotropy(mode, origin.seg.medium->g), &ea))
+        return 0.0f;
     return equiAngularPdf(ea, origin.t);
 }
 
@@ -69,7 +70,7 @@ Spectrum throughputChannels(Spectrum beta) {
     return sum > 0 ? beta / sum : Spectrum(1.0f / 3.0f);
 }
 
-bool usesDensity(ConnectMode m, const Light& l) { return m != ConnectMode::EquiAngular || l.kind == LightKind::Directional; }
+bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.kind == LightKind::Directional; }
 bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
 
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
@@ -90,7 +91,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
         float pff = v.origin->pFreeFlight;
         float pA = pff * pick * ls.pdf;
         float pB = ls.isDelta ? 0.0f : pff * scatterPdf;
-        float pC = usesEquiAngular(mode, light) ? pick * ls.pdf * equiAngularDensity(scene, light, ls.p, *v.origin) : 0.0f;
+        float pC = usesEquiAngular(mode, light) ? pick * ls.pdf * equiAngularDensity(scene, light, ls.p, *v.origin, mode) : 0.0f;
         w = powerWeight(pA, pB, pC);
     } else {
         w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
@@ -117,7 +118,8 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     const float uT = sampler.get1D(dims + dim::kEquiAngular, repeat);
     Vec3 anchor;
     EquiAngular ea;
-    if (!equiAngularAnchor(scene, light, uAnchor, &anchor) || !equiAngularTowards(scene, light, anchor, seg, &ea))
+    if (!equiAngularAnchor(scene, light, uAnchor, &anchor) ||
+        !equiAngularTowards(scene, light, anchor, seg, connectAnisotropy(mode, seg.medium->g), &ea))
         return Spectrum(0.0f);
     MediumOrigin origin{seg, sampleEquiAngular(ea, uT), 0.0f};
     float pea = equiAngularPdf(ea, origin.t);
@@ -231,7 +233,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                         float pB = prevOrigin.pFreeFlight * prevPdf;
                         float pA = usesDensity(mode, light) ? prevOrigin.pFreeFlight * pick * pL : 0.0f;
                         float pC = usesEquiAngular(mode, light)
-                                       ? pick * pL * equiAngularDensity(scene, light, hit.p, prevOrigin)
+                                       ? pick * pL * equiAngularDensity(scene, light, hit.p, prevOrigin, mode)
                                        : 0.0f;
                         w = powerWeight(pB, pA, pC);
                     } else {

@@ -304,6 +304,10 @@ def main():
         # camera ray of an odd-sized image (D = 0 for equi-angular sampling).
         single("single_dense.gltf", (0.3, 0.2, -3.0), scattering=2.0, absorption=0.5),
         single("single_on_ray.gltf", (0.0, 0.0, -3.0)),
+        # Forward-scattering fog (g = 0.9, the issue on product sampling) with the light in
+        # view, and a back-scattering one (g = -0.7) around a sphere light.
+        single("single_forward.gltf", (0.3, 0.2, -3.0), anisotropy=0.9),
+        single("area_sphere_back.gltf", (0.8, 0.5, -3.0), radius=0.3, anisotropy=-0.7),
         # Bidirectional vs unidirectional path tracing (test_bdpt*): small, everything lit.
         bdpt_quad_fogbox("bdpt_quad_fogbox.gltf"),
         bdpt_window_fog("bdpt_window_fog.gltf"),

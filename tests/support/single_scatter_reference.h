@@ -14,9 +14,9 @@ namespace brume::test {
 
 constexpr double kSigmaS = 0.2, kSigmaT = 0.25, kG = 0.3, kYfov = 0.6;
 
-inline double phaseHG(double cosTheta) {
-    double denom = 1 + kG * kG - 2 * kG * cosTheta;
-    return (1 - kG * kG) / (4 * M_PI * denom * std::sqrt(denom));
+inline double phaseHG(double cosTheta, double g = kG) {
+    double denom = 1 + g * g - 2 * g * cosTheta;
+    return (1 - g * g) / (4 * M_PI * denom * std::sqrt(denom));
 }
 
 // Gauss–Legendre nodes and weights on [−1, 1] (Newton on the Legendre recurrence).
@@ -61,7 +61,7 @@ double integrateAlongRay(Vec3 d, Vec3 c, double tEnd, G g) {
 }
 
 // Sphere light (centre c, radius r, intensity I → radiance I/(π r²)) seen along d from the origin.
-inline double sphereReference(Vec3 d, Vec3 c, double r, double I) {
+inline double sphereReference(Vec3 d, Vec3 c, double r, double I, double g = kG) {
     double Ls = I / (M_PI * r * r);
     // Does the pixel's ray hit the sphere? Then it sees the emitter attenuated, and the
     // scattering integral stops there.
@@ -92,7 +92,7 @@ inline double sphereReference(Vec3 d, Vec3 c, double r, double I) {
             for (int j = 0; j < nPsi; ++j) {  // trapezoid in ψ: exact for periodic smooth integrands
                 double psi = 2 * M_PI * (j + 0.5) / nPsi;
                 Vec3 w = frame.toWorld(Vec3(float(sinT * std::cos(psi)), float(sinT * std::sin(psi)), float(u)));
-                sum += gw[i] * phaseHG(dot(d, w)) * std::exp(-kSigmaT * s);
+                sum += gw[i] * phaseHG(dot(d, w), g) * std::exp(-kSigmaT * s);
             }
         }
         double domega = 0.5 * (1 - cosMax) * (2 * M_PI / nPsi);  // du·dψ per unit weight
@@ -124,10 +124,12 @@ inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le)
     return integrateAlongRay(d, q, INFINITY, inScatter);
 }
 
-// The three --connect modes, for tests that run each.
-const ConnectMode kConnectModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis};
+// The four --connect modes, for tests that run each.
+const ConnectMode kConnectModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Product,
+                                     ConnectMode::Mis};
 inline const char* connectModeName(ConnectMode m) {
-    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular" : "mis";
+    return m == ConnectMode::Density ? "density" : m == ConnectMode::EquiAngular ? "equiangular"
+                                       : m == ConnectMode::Product ? "product" : "mis";
 }
 
 // A single-scattering test scene (tests/data/single_*.gltf): its light, fog and the samples

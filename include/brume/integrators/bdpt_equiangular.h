@@ -22,9 +22,10 @@ struct EquiAngularAim {
 EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool endsPath);
 
 // Equi-angular sampling on seg towards the aim, clipped as the aim says; false if nothing of
-// seg remains.
+// seg remains. g ≠ 0: product sampling (connectAnisotropy). For a camera connection the
+// phase is the light vertex's, between its incoming direction (seg.d) and the pinhole.
 bool equiAngularTowardsAim(const Scene& scene, const EquiAngularAim& aim, const MediumSegment& seg, int width,
-                           int height, EquiAngular* out);
+                           int height, float g, EquiAngular* out);
 
 // The equi-angular density (per unit length) with which medium vertex v is placed on the ray
 // from prev aimed at `aim`, as the weights use it (stand-in or exact, by settings).

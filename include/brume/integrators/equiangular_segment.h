@@ -25,8 +25,9 @@ struct MediumSegment {
 bool equiAngularAnchor(const Scene& scene, const Light& light, Sample2 u, Vec3* anchor);
 
 // Set up equi-angular sampling on seg towards anchor, clipped for the light; false if the
-// clipped segment is empty (no point on it can receive light).
-bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg,
+// clipped segment is empty (no point on it can receive light). g ≠ 0: product sampling with
+// that anisotropy (connectAnisotropy).
+bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
                         EquiAngular* out);
 
 // Clip [t0, t1] to the points of the ray o + t·d inside a spot light's outer cone

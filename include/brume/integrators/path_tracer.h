@@ -11,8 +11,20 @@ namespace brume {
 //  Density:     next-event estimation from the free-flight scatter point;
 //  EquiAngular: from a point sampled equi-angularly towards the light on each segment
 //               (directional lights keep the free-flight point);
-//  Mis:         both, weighted by the power heuristic together with phase sampling.
-enum class ConnectMode { Density, EquiAngular, Mis };
+//  Product:     the same, the point sampled by equi-angular × phase (product sampling,
+//               equiangular.h) in anisotropic media;
+//  Mis:         free-flight and product points, weighted by the power heuristic together
+//               with phase sampling.
+enum class ConnectMode { Density, EquiAngular, Product, Mis };
+
+// Whether the equi-angular (or product) point replaces the free-flight one.
+inline bool variantOnly(ConnectMode m) { return m == ConnectMode::EquiAngular || m == ConnectMode::Product; }
+
+// The anisotropy that equi-angular sampling in a medium of anisotropy g takes into its
+// product: g for product and mis, 0 (plain equi-angular) otherwise.
+inline float connectAnisotropy(ConnectMode m, float g) {
+    return m == ConnectMode::Product || m == ConnectMode::Mis ? g : 0.0f;
+}
 
 struct PathTracerOptions {
     int maxDepth = -1;                // most scattering events on a path; −1 = unlimited

@@ -272,12 +272,21 @@ struct Checker : BdptObserver {
         }
         // Positions are floats: an edge of length ℓ between points of size |p| has its length
         // and direction known to ~2^-23·|p|/ℓ only, and so do the densities the weights are
-        // made of. 1e-4 is asked of every path whose edges resolve that well (all but edges
-        // shorter than ~0.1 mm); a path with a shorter edge is held to its own precision.
-        double minEdge = kInfinity, maxCoord = 1;
+        // made of. So has the cosine at a surface or area-light vertex b seen from its
+        // neighbour a, |n·(a − b)|/ℓ: its numerator h (a's height above b's plane, ≤ ℓ) is
+        // known to ~2^-23·|p|, a relative 2^-23·|p|/h. (A medium vertex that close to its
+        // neighbour's plane is also on an undetermined side of it, e.g. of an emitter, which
+        // decides the visibility and free flight of its other edge.) 1e-4 is asked of every
+        // path whose edges and heights resolve that well (≥ ~5 mm per metre of |p|); any
+        // other path is held to its own precision.
+        double minEdge = kInfinity, maxCoord = 1;  // minEdge: the smallest edge or height
         for (int i = 0; i <= (directional ? k - 1 : k); ++i) {  // (a directional light's vertex is made up)
             maxCoord = std::max(maxCoord, double(maxComponent(vmax(x[i].p, -x[i].p))));
-            if (i > 0) minEdge = std::min(minEdge, double(length(x[i].p - x[i - 1].p)));
+            if (i == 0) continue;
+            const Vec3 e = x[i].p - x[i - 1].p;
+            minEdge = std::min(minEdge, double(length(e)));
+            if (isAreaLike(x[i])) minEdge = std::min(minEdge, double(std::abs(dot(x[i].ng, e))));
+            if (isAreaLike(x[i - 1])) minEdge = std::min(minEdge, double(std::abs(dot(x[i - 1].ng, e))));
         }
         const double tolerance = std::max(1e-4, 4 * 0x1p-23 * maxCoord / minEdge);
         std::lock_guard<std::mutex> lock(mutex);

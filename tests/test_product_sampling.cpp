@@ -7,8 +7,12 @@
 
 #include <cmath>
 
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_tracer.h"
 #include "brume/sampling/equiangular.h"
 #include "brume/sampling/hg.h"
+#include "brume/scene/gltf_loader.h"
+#include "support/pixel_estimates.h"
 #include "support/test_support.h"
 
 using namespace brume;
@@ -158,4 +162,25 @@ TEST_CASE("product sampling edge cases stay finite and positive", "[sampling][eq
             CHECK(std::isfinite(standIn));
             CHECK(standIn > 0);
         }
+}
+
+TEST_CASE("g = 0: --connect product renders the bits of --connect equiangular (pt and bdpt)", "[equiangular][product]") {
+    // bench_fog_room: isotropic fog, a point light, walls; full transport.
+    Scene scene(loadGltf(std::string(BRUME_SCENES) + "/bench_fog_room.gltf"));
+    PathTracer ptPlain(PathTracerOptions{-1, true, ConnectMode::EquiAngular});
+    PathTracer ptProduct(PathTracerOptions{-1, true, ConnectMode::Product});
+    BdptOptions o;
+    o.connect = ConnectMode::EquiAngular;
+    BdptIntegrator bdptPlain(o);
+    o.connect = ConnectMode::Product;
+    BdptIntegrator bdptProduct(o);
+    const std::pair<const Integrator*, const Integrator*> pairs[] = {{&ptPlain, &ptProduct}, {&bdptPlain, &bdptProduct}};
+    for (const auto& [plain, product] : pairs) {
+        auto a = estimatePixels(scene, *plain, 12, 9, 8, 3);
+        auto b = estimatePixels(scene, *product, 12, 9, 8, 3);
+        int differ = 0;
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) differ += a[i].sum[c] != b[i].sum[c] || a[i].sum2[c] != b[i].sum2[c];
+        CHECK(differ == 0);
+    }
 }

@@ -22,7 +22,10 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
 // offset origins, so the sampled direction differs slightly from the edge's own direction,
 // and MIS needs densities that are functions of the path alone (every strategy must see the
 // same numbers for the same path). Free-flight densities come from the walk (per edge).
-void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, int height) {
+// ghostAfter: path[count] records a ray the walk traced from path[count − 1] without making a
+// vertex (PathVertex::ghost); an equi-angular variant may place one there, on that ray from
+// path[count − 1].p itself, so path[count − 2].pdfRev uses the ray's direction.
+void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, int height, bool ghostAfter) {
     for (int i = 1; i < count; ++i) {  // wo along the edge itself, not the offset ray
         Vec3 back = path[i - 1].p - path[i].p;
         float len = length(back);
@@ -43,8 +46,8 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
         if (!prev.delta)
             v.pdfFwd = solidAngleToArea(v, w, vertexDirectionPdf(scene, prev, prevFrom, w, width, height), dist) *
                        v.edgeFwdFreeFlight;
-        if (i + 1 < count && !v.delta) {
-            Vec3 vFrom = normalize(path[i + 1].p - v.p);
+        if ((i + 1 < count || ghostAfter) && !v.delta) {
+            Vec3 vFrom = i + 1 < count ? normalize(path[i + 1].p - v.p) : path[i + 1].edgeDir;
             prev.pdfRev = solidAngleToArea(prev, w, vertexDirectionPdf(scene, v, vFrom, -w, width, height), dist) *
                           v.edgeRevFreeFlight;
         }
@@ -56,7 +59,7 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats) {
     int count = walk(scene, start, mode, maxScatter, sampler, path, maxVertices, stats);
-    edgeDensities(scene, path, count, start.width, start.height);
+    edgeDensities(scene, path, count, start.width, start.height, count < maxVertices && path[count].ghost);
     return count;
 }
 

@@ -1,5 +1,5 @@
-// The seven light-transport methods the stability suite runs on every scene: the path tracer and
-// the bidirectional path tracer, each with the three --connect modes, and the efficiency-aware
+// The nine light-transport methods the stability suite runs on every scene: the path tracer and
+// the bidirectional path tracer, each with the four --connect modes, and the efficiency-aware
 // tracer (`brume render`'s default), named as `brume bench` names them (pt:density … bdpt:mis,
 // auto).
 #pragma once
@@ -20,6 +20,7 @@ struct Method {
     std::string name() const {
         const char* mode = connect == ConnectMode::Density       ? "density"
                            : connect == ConnectMode::EquiAngular ? "equiangular"
+                           : connect == ConnectMode::Product     ? "product"
                                                                  : "mis";
         if (automatic) return "auto";
         return std::string(bdpt ? "bdpt:" : "pt:") + mode;
@@ -34,12 +35,13 @@ struct Method {
 };
 
 inline const Method kPtDensity{false, ConnectMode::Density}, kPtEquiAngular{false, ConnectMode::EquiAngular},
-    kPtMis{false, ConnectMode::Mis}, kBdptDensity{true, ConnectMode::Density},
-    kBdptEquiAngular{true, ConnectMode::EquiAngular}, kBdptMis{true, ConnectMode::Mis},
-    kAuto{true, ConnectMode::Mis, true};
+    kPtProduct{false, ConnectMode::Product}, kPtMis{false, ConnectMode::Mis}, kBdptDensity{true, ConnectMode::Density},
+    kBdptEquiAngular{true, ConnectMode::EquiAngular}, kBdptProduct{true, ConnectMode::Product},
+    kBdptMis{true, ConnectMode::Mis}, kAuto{true, ConnectMode::Mis, true};
 
 inline const std::vector<Method>& allMethods() {
-    static const std::vector<Method> all{kPtDensity, kPtEquiAngular, kPtMis, kBdptDensity, kBdptEquiAngular, kBdptMis, kAuto};
+    static const std::vector<Method> all{kPtDensity,   kPtEquiAngular,   kPtProduct, kPtMis, kBdptDensity,
+                                         kBdptEquiAngular, kBdptProduct, kBdptMis, kAuto};
     return all;
 }
 

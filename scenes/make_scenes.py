@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Writes the bundled scenes in scenes/ (street, the two fog benchmarks and the five lit-fog
-showcase scenes: god_rays, area_hall, caustic, smoke_box, lighthouse).
+"""Writes the bundled scenes in scenes/ (street, the fog benchmarks and the lit-fog showcase
+scenes: god_rays, area_hall, caustic, smoke_box, lighthouse, dusk_haze, headlights).
 
 Run: /usr/bin/python3 scenes/make_scenes.py
 The output is deterministic. See scenes/README.md.
@@ -209,12 +209,16 @@ def _pnui(part):
     return pos, idx, nrm, uvs
 
 
-def make_fog_bench(path, scattering, absorption, light_pos, intensity):
-    """Benchmark scene for the light-connection strategies: a ground plane in homogeneous fog,
-    one point light, the camera at eye height looking down the ground."""
+def make_fog_bench(path, scattering, absorption, light_pos, intensity, anisotropy=0.3):
+    """Benchmark scene for the light-connection strategies: a ground plane in homogeneous fog
+    (Henyey-Greenstein g = anisotropy), one point light, the camera at eye height looking down
+    the ground."""
     b = g.GltfBuilder("brume scenes/make_scenes.py")
-    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=(0.0, 1.5, 0.0))
-    b.set_ambient(b.add_medium("fog", scattering, absorption, 0.3))
+    eye, yfov, aspect = (0.0, 1.5, 0.0), 0.8, 4.0 / 3.0
+    b.add_camera("camera", yfov=yfov, aspect_ratio=aspect, translation=eye)
+    assert light_pos[1] > 0.5, "the light is above the ground"
+    View(eye, (0.0, 0.0, 0.0, 1.0), yfov, aspect).assert_in_view("light", light_pos)
+    b.set_ambient(b.add_medium("fog", scattering, absorption, anisotropy))
     ground = b.add_material("ground", base_color=(0.4, 0.4, 0.4), metallic=0.0, roughness=1.0)
     b.add_node("ground", mesh=b.add_mesh("ground", *_pnui(g.quad((0.0, 0.0, -40.0), (0.0, 0.0, 60.0),
                                                                      (60.0, 0.0, 0.0))), material=ground))
@@ -1056,6 +1060,145 @@ def make_dusk_haze(path):
     return b.write(path)
 
 
+# ---------------------------------------------------------------------------------------------
+# headlights.gltf
+
+def make_headlights(path):
+    """A car seen from the front on a foggy road at night. Its two headlights (spots) shine
+    back along the road, slightly down and towards the viewer, who stands inside their cones
+    near the right-hand edge of the road: in strongly forward-scattering fog (g = 0.85) the
+    beams glow towards the camera. Street lamps beyond the car glow in the fog."""
+    b = TexturedBuilder()
+    parts = Parts(b)
+    m_road = b.add_material("road", base_color=(0.15, 0.15, 0.15))
+    m_verge = b.add_material("verge", base_color=(0.23, 0.27, 0.21))
+    m_paint = b.add_material("road_paint", base_color=(0.7, 0.7, 0.68))
+    m_car = b.add_material("car_paint", base_color=(0.42, 0.06, 0.05), metallic=0.25, roughness=0.35)
+    m_glass = b.add_material("car_windows", base_color=(0.08, 0.09, 0.1), metallic=0.6, roughness=0.15)
+    m_black = b.add_material("black_trim", base_color=(0.03, 0.03, 0.03))
+    m_tyre = b.add_material("tyre", base_color=(0.025, 0.025, 0.025))
+    m_iron = b.add_material("lamp_iron", base_color=(0.06, 0.06, 0.065))
+    m_post = b.add_material("marker_post", base_color=(0.65, 0.65, 0.62))
+    headlight_color = (0.92, 0.96, 1.0)
+    m_lens = b.add_material("headlight_lens", base_color=(0.0, 0.0, 0.0), emissive=headlight_color,
+                            emissive_strength=40.0)
+
+    # ---- the road (x in [-3.5, 3.5], along z) and the verges beside it, all at y = 0
+    road_w, z_near, z_far = 3.5, 12.0, -130.0
+    zc, zh = 0.5 * (z_near + z_far), 0.5 * (z_near - z_far)
+    road = g.quad((0.0, 0.0, zc), (0.0, 0.0, zh), (road_w, 0.0, 0.0))
+    assert road[1][0][1] > 0.999
+    parts.mesh("road", road, m_road, solid=False)
+    verges = Geometry()
+    for side in (-1.0, 1.0):
+        verges.append(g.quad((side * (road_w + 30.0), 0.0, zc), (0.0, 0.0, zh), (30.0, 0.0, 0.0)))
+    assert all(n[1] > 0.999 for n in verges.normals)
+    parts.mesh("verges", (verges.positions, verges.normals, verges.uvs, verges.indices), m_verge,
+               solid=False)
+    # a dashed centre line and solid edge lines, 3 mm above the road
+    lines = Geometry()
+    for k in range(14):
+        lines.append(g.quad((0.0, 0.003, 8.0 - 6.0 * k), (0.0, 0.0, 1.5), (0.06, 0.0, 0.0)))
+    for side in (-1.0, 1.0):
+        lines.append(g.quad((side * (road_w - 0.2), 0.003, zc), (0.0, 0.0, zh), (0.06, 0.0, 0.0)))
+    assert all(n[1] > 0.999 for n in lines.normals)
+    parts.mesh("road_lines", (lines.positions, lines.normals, lines.uvs, lines.indices), m_paint,
+               solid=False)
+    # white marker posts along both verges
+    for k in range(7):
+        z = 6.0 - 12.0 * k
+        for side in (-1.0, 1.0):
+            x = side * (road_w + 0.7)
+            parts.box(m_post, (x - 0.06, -0.02, z - 0.06), (x + 0.06, 1.0, z + 0.06), "marker post")
+
+    # ---- the car, in its right-hand lane, facing +Z (towards the viewer)
+    cx, cz = -1.75, -16.0
+    front = cz + 2.2
+    parts.box(m_car, (cx - 0.88, 0.32, cz - 2.2), (cx + 0.88, 0.95, front), "body")
+    parts.box(m_glass, (cx - 0.76, 0.95, cz - 1.35), (cx + 0.76, 1.42, cz + 0.55), "cabin")
+    parts.box(m_car, (cx - 0.74, 1.42, cz - 1.25), (cx + 0.74, 1.48, cz + 0.45), "roof")
+    parts.box(m_black, (cx - 0.92, 0.28, front - 0.1), (cx + 0.92, 0.48, front + 0.1), "bumper")
+    parts.box(m_black, (cx - 0.36, 0.56, front - 0.05), (cx + 0.36, 0.8, front + 0.02), "grille")
+    to_x = g.quat_axis_angle((0.0, 0.0, 1.0), -0.5 * math.pi)  # cylinder axis +Y -> +X
+    assert abs(g.quat_rotate(to_x, (0.0, 1.0, 0.0))[0] - 1.0) < 1e-12
+    tyre_r, tyre_w = 0.34, 0.24
+    tyres = Geometry()
+    for dx in (-0.8, 0.8):
+        for dz in (-1.4, 1.4):
+            centre = (cx + dx, tyre_r - 0.01, cz + dz)  # sunk 1 cm into the road
+            tyres.append(transformed(cylinder((0.0, -0.5 * tyre_w, 0.0), tyre_r, tyre_r, tyre_w, 20),
+                                     to_x, centre))
+            parts.checks.solid(g.sub(centre, (0.5 * tyre_w, tyre_r, tyre_r)),
+                               g.add(centre, (0.5 * tyre_w, tyre_r, tyre_r)), "tyre")
+    parts.mesh("tyres", (tyres.positions, tyres.normals, tyres.uvs, tyres.indices), m_tyre, solid=False)
+    # headlights: a black bezel and a glowing lens on the front, a spot just in front of each
+    hl_y, hl_half_gap = 0.7, 0.7
+    headlights = [(cx - hl_half_gap, hl_y, front + 0.06), (cx + hl_half_gap, hl_y, front + 0.06)]
+    lenses, bezels = Geometry(), Geometry()
+    for hx, hy, _hz in headlights:
+        bezels.append(disc((hx, hy, front + 0.003), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 0.14, 24))
+        lenses.append(disc((hx, hy, front + 0.008), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 0.1, 24))
+    assert all(n[2] > 0.999 for n in lenses.normals + bezels.normals)
+    parts.mesh("headlight_bezels", (bezels.positions, bezels.normals, bezels.uvs, bezels.indices), m_black,
+               solid=False)
+    parts.mesh("headlight_lenses", (lenses.positions, lenses.normals, lenses.uvs, lenses.indices), m_lens,
+               solid=False)
+
+    # ---- street lamps beyond the car: tapered pole, arm over the road, hood, warm sphere light
+    lamp_color, lamp_intensity, lamp_radius = (1.0, 0.72, 0.42), 10.0, 0.1
+    lamps = []
+    for k, (px, pz) in enumerate(((4.4, -17.0), (-4.4, -30.0), (4.4, -43.0))):
+        toward = -1.0 if px > 0 else 1.0
+        lx = px + 1.1 * toward
+        parts.mesh("lamp_pole_%d" % (k + 1), cylinder((px, -0.02, pz), 0.09, 0.06, 5.02, 12, cap_bottom=False),
+                   m_iron)
+        parts.box(m_iron, (min(px, lx) - 0.05, 4.92, pz - 0.04), (max(px, lx) + 0.05, 5.0, pz + 0.04), "arm")
+        parts.box(m_iron, (lx - 0.2, 4.84, pz - 0.16), (lx + 0.2, 4.92, pz + 0.16), "hood")
+        lamp = (lx, 4.7, pz)
+        b.add_light("street_lamp_%d" % (k + 1), "point", lamp_color, lamp_intensity, translation=lamp,
+                    radius=lamp_radius)
+        parts.checks.assert_free("street lamp %d" % (k + 1), lamp, lamp_radius + 0.02)
+        lamps.append(lamp)
+    parts.flush({m_car: "car_body", m_glass: "car_cabin", m_black: "car_trim", m_post: "marker_posts",
+                 m_iron: "lamp_irons"})
+
+    # ---- the camera: eye height, near the right-hand edge of the road, 15 m in front of the car
+    eye = (2.6, 1.6, 1.0)
+    target = (-0.6, 1.75, -20.0)
+    yfov, aspect = 0.7, 4.0 / 3.0
+    rot = g.quat_look_at(eye, target)
+    b.add_camera("camera", yfov=yfov, aspect_ratio=aspect, translation=eye, rotation=rot)
+    parts.checks.assert_free("camera", eye, 0.3)
+    view = View(eye, rot, yfov, aspect)
+
+    # ---- the headlight spots: aimed straight back along the road and a little down (onto the
+    # road some 9 m ahead); the viewer stands beside the road just outside both cones, so the
+    # beams pass close by and the fog between glows forward towards the viewer
+    inner, outer = 0.16, 0.24
+    for k, hl in enumerate(headlights):
+        parts.checks.assert_free("headlight %d" % (k + 1), hl, 0.05)
+        axis = g.normalize((0.0, -0.08, 1.0))
+        b.add_light("headlight_%d" % (k + 1), "spot", headlight_color, 120.0, translation=hl, rotation=aim(axis),
+                    inner_cone=inner, outer_cone=outer)
+        to_eye = g.normalize(g.sub(eye, hl))
+        off = math.acos(max(-1.0, min(1.0, g.dot(axis, to_eye))))
+        assert outer < off < outer + 0.15, "the camera is %.3f rad off headlight %d's axis (outer cone %g)" % (
+            off, k + 1, outer)
+        assert axis[1] < 0 and axis[2] > 0.9, "the headlight points back along the road and down"
+        print("  headlight %d: the camera is %.3f rad off its axis; the axis meets the road %.1f m ahead" %
+              (k + 1, off, hl[1] / -axis[1]))
+        parts.checks.assert_clear("headlight %d reaches the camera" % (k + 1), hl, eye)
+        view.assert_in_view("headlight %d" % (k + 1), hl)
+    for k, lamp in enumerate(lamps):
+        view.assert_in_view("street lamp %d" % (k + 1), lamp)
+        parts.checks.assert_clear("camera sees street lamp %d" % (k + 1), eye, lamp)
+
+    b.set_ambient(b.add_medium("road_fog", scattering=0.06, absorption=0.004, anisotropy=0.85))
+    assert parts.triangles < 3000, parts.triangles
+    print("  %d triangles" % parts.triangles)
+    return b.write(path)
+
+
 def make_fog_room(path):
     """Benchmark scene for samplers and single scattering: a closed room (6 x 3 x 10 m,
     Lambertian walls of albedo 0.5, normals inwards) in thin isotropic fog (scattering
@@ -1090,6 +1233,9 @@ def main():
         make_fog_bench(os.path.join(HERE, "bench_thin_near.gltf"), 0.03, 0.003, (0.6, 1.8, -6.0), 20.0),
         # Dense fog, a distant light: free-flight sampling's home ground.
         make_fog_bench(os.path.join(HERE, "bench_dense_far.gltf"), 0.25, 0.01, (4.0, 4.0, -12.0), 60.0),
+        # Strongly forward-scattering fog (g = 0.9), the light in view: product sampling's home ground.
+        make_fog_bench(os.path.join(HERE, "bench_forward.gltf"), 0.05, 0.005, (0.6, 1.8, -6.0), 20.0,
+                       anisotropy=0.9),
         # A closed fog room lit by one point light: samplers, single and multiple scattering.
         make_fog_room(os.path.join(HERE, "bench_fog_room.gltf")),
         # Lit-fog showcase scenes (README gallery)
@@ -1099,6 +1245,7 @@ def main():
         make_smoke_box(os.path.join(HERE, "smoke_box.gltf")),
         make_lighthouse(os.path.join(HERE, "lighthouse.gltf")),
         make_dusk_haze(os.path.join(HERE, "dusk_haze.gltf")),
+        make_headlights(os.path.join(HERE, "headlights.gltf")),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

@@ -325,8 +325,12 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         opt.generalConnection = c.connectP;
         BdptIntegrator bdpt(opt);
         // Blocks of 4×4 pixels: single equi-angular connections near a light have heavy tails.
-        auto a = estimateFilm(*scene, pt, 16, 16, 64, 16, 1, 4);
-        auto b = estimateFilm(*scene, bdpt, 16, 16, 24, 16, 2, 4);
+        // 64 batches, not 16: the bound is Gaussian, and a standard error estimated from 16
+        // batches is itself uncertain enough (Student's t, 15 degrees of freedom) that an
+        // unbiased estimator passed z = 4.5 here (single_near, --connect equiangular: the block's
+        // mean at 8192 spp agrees with pt's to 0.04 %). Same samples in total.
+        auto a = estimateFilm(*scene, pt, 16, 16, 16, 64, 1, 4);
+        auto b = estimateFilm(*scene, bdpt, 16, 16, 6, 64, 2, 4);
         std::string where;
         double z = worstZ(a, b, std::vector<bool>(a.size(), false), 4, &where);
         INFO(c.file << " max-depth " << c.depth << " --connect " << (c.mode == ConnectMode::Mis ? "mis" : "equiangular")

@@ -43,6 +43,7 @@ TEST_CASE("stability: lights 1 cm and 1 mm in front of the wall camera rays end 
                          .referenceMethod(kBdptDensity)
                          .weakMethod(kPtDensity, 0.42, 0.011, false)
                          .weakMethod(kPtEquiAngular, 0.70, 0.015, true)
+                         .weakMethod(kPtProduct, 0.70, 0.015, true)
                          .weakMethod(kPtMis, 0.49, 0.014, true));
 }
 
@@ -55,6 +56,7 @@ TEST_CASE("stability: a spot light with a 0.5 degree cone", "[stability]") {
                          .referenceMethod(kBdptDensity)
                          .weakMethod(kPtDensity, 1.2, 0.009, true)
                          .weakMethod(kPtEquiAngular, 0.78, 0.027, true)
+                         .weakMethod(kPtProduct, 0.78, 0.027, true)
                          .weakMethod(kPtMis, 0.50, 0.025, true));
 }
 

@@ -185,7 +185,9 @@ TEST_CASE("cli: .exr, .pfm and .png are written and read back", "[cli]") {
 
 TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
     TempDir dir;
-    for (const char* flags : {"--connect density", "--connect equiangular", "--connect mis", "--no-nee --max-depth 3",
+    for (const char* flags : {"--connect density", "--connect equiangular", "--connect product", "--connect mis",
+                              "--connect product --integrator pt", "--connect product --integrator bdpt",
+                              "--no-nee --max-depth 3",
                               "--sampler independent", "--sampler sobol --integrator pt"}) {
         INFO(flags);
         Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);

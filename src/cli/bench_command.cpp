@@ -236,7 +236,7 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
         if (v.empty()) throw UsageError("--out: empty directory name");
         a.outDir = v;
     });
-    addOption(app, "--methods", "LIST", "comma-separated methods (default: auto and the six pt and bdpt modes); see below",
+    addOption(app, "--methods", "LIST", "comma-separated methods (default: auto, the four pt and three bdpt modes); see below",
               [&](const std::string& v) {
                   for (const std::string& item : splitList("--methods", v)) {
                       BenchChoice m = namedChoice("--methods", item);

@@ -293,16 +293,21 @@ class GltfBuilder:
 
     # -- media ---------------------------------------------------------------------------------
 
-    def add_medium(self, name, scattering, absorption, anisotropy=0.0):
-        """A homogeneous medium (coefficients in 1/m per RGB channel, HG g). Returns its index."""
+    def add_medium(self, name, scattering, absorption, anisotropy=0.0, density=None):
+        """A medium (coefficients in 1/m per RGB channel, HG g). Returns its index. density:
+        None (homogeneous) or {"uri": "x.vdb", "grid": "density", "scale": 1.0}, a density
+        grid the coefficients are per unit of (docs/scene-format.md)."""
         def rgb(v):
             if isinstance(v, (int, float)):
                 return [float(v)] * 3
             return [float(c) for c in v]
         if self.media is None:
             self.media = []
-        self.media.append({"name": name, "scattering": rgb(scattering),
-                           "absorption": rgb(absorption), "anisotropy": float(anisotropy)})
+        medium = {"name": name, "scattering": rgb(scattering), "absorption": rgb(absorption),
+                  "anisotropy": float(anisotropy)}
+        if density is not None:
+            medium["density"] = dict(density)
+        self.media.append(medium)
         self.extensions_used.add("BRUME_media")
         return len(self.media) - 1
 

@@ -65,4 +65,18 @@ Vec3 Mat4::normal(Vec3 n) const {
     return len > 0 ? out / len : n;
 }
 
+Mat4 Mat4::affineInverse() const {
+    // [R t]⁻¹ = [R⁻¹  −R⁻¹·t], R⁻¹ = cofactorᵀ / det.
+    const Mat4& a = *this;
+    const double det = det3();
+    Mat4 inv;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            inv(j, i) = (a(i1, j1) * a(i2, j2) - a(i1, j2) * a(i2, j1)) / det;
+        }
+    for (int r = 0; r < 3; ++r) inv(r, 3) = -(inv(r, 0) * a(0, 3) + inv(r, 1) * a(1, 3) + inv(r, 2) * a(2, 3));
+    return inv;
+}
+
 }  // namespace brume

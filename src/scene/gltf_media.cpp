@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "brume/scene/gltf_detail.h"
+#include "brume/scene/vdb_file.h"
 
 namespace brume::gltf {
 
@@ -30,6 +31,36 @@ Spectrum coefficient(const Source& src, const tinygltf::Value* v, const std::str
     return s;
 }
 
+// "density": {"uri": "smoke.vdb", "grid": "density", "scale": 1}: the coefficients become per
+// unit density; the grid sits in world space until a mesh's node places it (placeInteriorGrid).
+void parseDensity(const Source& src, const tinygltf::Value& d, const std::string& field, Medium& medium) {
+    if (!d.IsObject()) src.fail(field, "expected an object {\"uri\": ..., \"grid\": ..., \"scale\": ...}");
+    const tinygltf::Value* uri = member(d, "uri");
+    if (!uri || !uri->IsString() || uri->Get<std::string>().empty())
+        src.fail(field + ".uri", "expected the path of an OpenVDB file, relative to the scene file");
+    std::string gridName;
+    if (const tinygltf::Value* g = member(d, "grid")) {
+        if (!g->IsString()) src.fail(field + ".grid", "expected a string");
+        gridName = g->Get<std::string>();
+    }
+    double scale = 1;
+    if (const tinygltf::Value* s = member(d, "scale")) {
+        if (!s->IsNumber()) src.fail(field + ".scale", "expected a number");
+        scale = s->GetNumberAsDouble();
+        if (!std::isfinite(scale) || scale < 0 || scale > 1e30) src.fail(field + ".scale", "scale " + num(scale) + " must be finite and >= 0");
+    }
+    std::string path = uri->Get<std::string>();
+    if (path[0] != '/') {
+        const size_t slash = src.path.find_last_of('/');
+        if (slash != std::string::npos) path = src.path.substr(0, slash + 1) + path;
+    }
+    VdbDensity vdb = loadVdbDensity(path, gridName);
+    medium.density.grid = vdb.grid;
+    medium.density.indexToWorld = vdb.indexToWorld;
+    medium.density.scale = float(scale);
+    medium.density.place(Mat4());
+}
+
 Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field) {
     if (!m.IsObject()) src.fail(field, "expected an object");
     Medium medium;
@@ -46,6 +77,7 @@ Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::strin
         if (std::abs(d) >= 1) src.fail(field + ".anisotropy", "anisotropy g = " + num(d) + " must satisfy |g| < 1");
         medium.g = float(d);
     }
+    if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium);
     return medium;
 }
 
@@ -64,6 +96,22 @@ void parseMedia(const Source& src, const tinygltf::Value& brumeMedia, SceneDescr
         const std::string field = base + ".ambient";
         desc.ambientMedium = checkIndex(src, integer(src, *ambient, field), desc.media.size(), field, "medium");
     }
+}
+
+void placeInteriorGrid(const Source& src, Medium& medium, int mediumIndex, const Mat4& world, const std::string& field) {
+    if (!medium.heterogeneous()) return;
+    if (medium.density.placedByNode) {
+        GridPlacement probe = medium.density;
+        probe.place(world);
+        for (int i = 0; i < 16; ++i)
+            if (std::abs(probe.worldToLocal.m[size_t(i)] - medium.density.worldToLocal.m[size_t(i)]) > 1e-9)
+                src.fail(field, "medium " + std::to_string(mediumIndex) +
+                                    " has a density grid and bounds meshes of nodes with different transforms: "
+                                    "give each its own medium");
+        return;
+    }
+    medium.density.place(world);
+    medium.density.placedByNode = true;
 }
 
 int interiorMedium(const Source& src, const tinygltf::Mesh& mesh, int meshIndex, int mediaCount) {

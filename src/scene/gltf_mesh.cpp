@@ -27,6 +27,7 @@ void appendMesh(const Source& src, const tinygltf::Model& model, int meshIndex, 
     const tinygltf::Mesh& gm = model.meshes[size_t(meshIndex)];
     const std::string meshField = at("meshes", size_t(meshIndex));
     const int interior = interiorMedium(src, gm, meshIndex, int(desc.media.size()));
+    if (interior >= 0) placeInteriorGrid(src, desc.media[size_t(interior)], interior, world, field);
     // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners back.
     const bool mirrored = world.det3() < 0;
 

@@ -20,6 +20,7 @@ namespace brume {
 // channels at the path level instead.
 MediumSample Medium::sampleDistance(const Ray& ray, float t0, float t1, float uDistance, float uChannel,
                                     Spectrum channels, bool startIsPoint) const {
+    if (heterogeneous()) return trackDistance(ray, t0, t1, uDistance, channels, startIsPoint);
     const Spectrum st = sigmaT();
     const float len = t1 - t0;
     const bool grey = this->grey();
@@ -65,6 +66,7 @@ MediumSample Medium::sampleDistance(const Ray& ray, float t0, float t1, float uD
 }
 
 MediumTransit Medium::transit(const Ray& ray, float t0, float t1, bool startIsPoint, bool endIsPoint) const {
+    if (heterogeneous()) return ratioTrack(ray, t0, t1, startIsPoint, endIsPoint);
     const Spectrum st = sigmaT();
     const float len = t1 - t0;
     MediumTransit tr;
@@ -84,6 +86,9 @@ MediumTransit Medium::transit(const Ray& ray, float t0, float t1, bool startIsPo
     return tr;
 }
 
-Spectrum Medium::transmittance(const Ray& ray, float t0, float t1) const { return transmittanceOver(sigmaT(), t1 - t0); }
+Spectrum Medium::transmittance(const Ray& ray, float t0, float t1) const {
+    if (heterogeneous()) return ratioTrack(ray, t0, t1, false, false).T;
+    return transmittanceOver(sigmaT(), t1 - t0);
+}
 
 }  // namespace brume

@@ -271,6 +271,91 @@ def bdpt_glass_sphere(name, sphere_light_radius=None):
     return b.write(out(name))
 
 
+# ---- heterogeneous media (density grids, .vdb written with Debian's python3-openvdb) --------
+
+def write_grid(name, lo, hi, voxel, field):
+    """A float grid "density" with voxel (i, j, k) at world voxel * (i, j, k), for i in
+    [lo, hi] per axis (inclusive), valued field(x, y, z) (numpy arrays); zeros stay inactive."""
+    import numpy as np
+    import pyopenvdb as vdb
+    lo, hi = np.array(lo), np.array(hi)
+    idx = np.indices(tuple(hi - lo + 1)) + lo[:, None, None, None]
+    x, y, z = idx * voxel
+    values = np.asarray(field(x, y, z), dtype=np.float32)
+    assert values.min() >= 0 and np.isfinite(values).all(), name
+    grid = vdb.FloatGrid()
+    grid.name = "density"
+    grid.copyFromArray(values, ijk=tuple(int(v) for v in lo), tolerance=0)
+    grid.transform = vdb.createLinearTransform(voxelSize=voxel)
+    vdb.write(out(name), grids=[grid])
+    return out(name)
+
+
+def furnace_field(x, y, z):
+    """Strongly varying, with empty regions: a product of sines (0 to 4 /m) cut to zero on
+    one side of a slanted plane, plus a dense blob (8 /m) off the centre."""
+    import numpy as np
+    waves = 4.0 * (np.sin(2.1 * x + 0.3) * np.cos(1.7 * y) * np.sin(2.9 * z + 1.0)) ** 2
+    waves = np.where(np.sin(1.3 * x + 0.5 * y) > -0.3, waves, 0.0)
+    blob = 8.0 * np.exp(-((x - 0.5) ** 2 + (y - 0.3) ** 2 + (z + 1.0) ** 2) / 0.1)
+    return waves + blob
+
+
+def furnace_grid(name, scattering, node_translation=None, node_rotation=None, ambient=True):
+    """The furnace (walls emit 1, albedo 0) filled with a non-absorbing grid medium: radiance
+    exactly 1. Bounded: the grid is placed by the wall mesh's node (moved and turned)."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 1.0)
+    fog = b.add_medium("smoke", scattering=scattering, absorption=0.0, anisotropy=0.5,
+                       density={"uri": "furnace_grid.vdb", "grid": "density", "scale": 1.0})
+    wall = b.add_material("wall", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                          emissive=(1.0, 1.0, 1.0))
+    pos, idx = inward_sphere(FURNACE_RADIUS)
+    if ambient:
+        b.set_ambient(fog)
+        mesh = b.add_mesh("wall", pos, idx, material=wall)
+    else:
+        mesh = b.add_mesh("wall", pos, idx, material=wall, interior=fog)
+    b.add_node("wall", mesh=mesh, translation=node_translation, rotation=node_rotation)
+    return b.write(out(name))
+
+
+# The absorbing ramp (test_heterogeneous): density 0.6 + 0.25 x + 0.1 y inside the box
+# [-1.5, 1.5]^2 x [-3, -1], absorption 1 per unit density, in front of a backdrop of radiance 1.
+RAMP = (0.6, 0.25, 0.1)
+
+
+def absorbing_ramp(name):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 0.6)  # every camera ray crosses the box front to back (half-angle 0.3 < atan(1.5/3))
+    ramp = b.add_medium("ramp", scattering=0.0, absorption=1.0, anisotropy=0.0,
+                        density={"uri": "ramp.vdb", "grid": "density"})
+    add_fog_box(b, "ramp_box", (-1.5, -1.5, -3.0), (1.5, 1.5, -1.0), ramp)
+    backdrop = b.add_material("backdrop", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                              emissive=(1.0, 1.0, 1.0))
+    pos, nrm, uvs, idx = g.quad((0.0, 0.0, -4.0), (3.0, 0.0, 0.0), (0.0, 3.0, 0.0))
+    for t in range(2):
+        assert g.triangle_normal(pos, idx, t)[2] > 0, "the backdrop faces the camera"
+    b.add_node("backdrop", mesh=b.add_mesh("backdrop", pos, idx, normals=nrm, material=backdrop))
+    return b.write(out(name))
+
+
+# Single scattering in a density gradient (test_heterogeneous): density 1 + 0.35 y inside the
+# box [-2.5, 2.5] x [-2, 2] x [-6, -0.5], the single-scattering fog's coefficients per unit
+# density, a point light at (0.3, 0.2, -3). Every camera ray leaves through the back face.
+GRADIENT = (1.0, 0.35)
+
+
+def single_gradient(name):
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    fog = b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G,
+                       density={"uri": "gradient.vdb", "grid": "density"})
+    add_fog_box(b, "fog_box", (-2.5, -2.0, -6.0), (2.5, 2.0, -0.5), fog)
+    b.add_light("light", "point", (1.0, 1.0, 1.0), POINT_INTENSITY, translation=(0.3, 0.2, -3.0))
+    return b.write(out(name))
+
+
 def main():
     written = [
         furnace("furnace_ambient.gltf", ambient=True, wall_albedo=0.0, wall_emission=1.0),
@@ -313,6 +398,19 @@ def main():
         bdpt_window_fog("bdpt_window_fog.gltf"),
         bdpt_glass_sphere("bdpt_glass_sphere.gltf"),
         bdpt_glass_sphere("bdpt_glass_sphere_bulb.gltf", sphere_light_radius=0.1),
+        # Heterogeneous media: the grids (1 voxel beyond their boxes, where trilinear
+        # interpolation is exactly linear) and the scenes.
+        write_grid("furnace_grid.vdb", (-22, -22, -22), (22, 22, 22), 0.1, furnace_field),
+        furnace_grid("furnace_grid_ambient.gltf", 1.0),
+        furnace_grid("furnace_grid_bounded.gltf", 1.0, node_translation=(0.2, -0.1, 0.15),
+                     node_rotation=g.quat_axis_angle((0.0, 1.0, 0.0), 0.45), ambient=False),
+        furnace_grid("furnace_grid_chromatic.gltf", (0.5, 1.0, 2.0)),
+        write_grid("ramp.vdb", (-17, -17, -32), (17, 17, -8), 0.1,
+                   lambda x, y, z: RAMP[0] + RAMP[1] * x + RAMP[2] * y + 0.0 * z),
+        absorbing_ramp("absorbing_ramp.gltf"),
+        write_grid("gradient.vdb", (-11, -9, -25), (11, 9, -1), 0.25,
+                   lambda x, y, z: GRADIENT[0] + GRADIENT[1] * y + 0.0 * x + 0.0 * z),
+        single_gradient("single_gradient.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

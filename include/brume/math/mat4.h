@@ -17,6 +17,8 @@ struct Mat4 {
     // Normals transform by the inverse transpose of the linear part.
     Vec3 normal(Vec3 n) const;
     double det3() const;
+    // The inverse of an affine transform (bottom row 0 0 0 1, det3 ≠ 0).
+    Mat4 affineInverse() const;
 };
 
 }  // namespace brume

@@ -83,6 +83,8 @@ Texture decodeSrgbImage(const Source& src, const tinygltf::Image& image, const s
 void parseMedia(const Source& src, const tinygltf::Value& brumeMedia, SceneDescription& desc);
 // The medium a mesh's BRUME_media extension names as its interior, or -1.
 int interiorMedium(const Source& src, const tinygltf::Mesh& mesh, int meshIndex, int mediaCount);
+// A medium with a density grid inside a mesh: the mesh's node transform places the grid.
+void placeInteriorGrid(const Source& src, Medium& medium, int mediumIndex, const Mat4& world, const std::string& field);
 
 // --- Lights (gltf_light.cpp) --------------------------------------------------------------
 

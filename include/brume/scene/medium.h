@@ -8,10 +8,11 @@
 //   transit         transmittance over the piece and the same densities, for points that
 //                   were joined rather than sampled;
 //   sigmaSAt, g     scattering coefficient and phase function at a point.
-// Today's media are homogeneous (coefficients in 1/m, Henyey–Greenstein anisotropy g): the
-// closed forms of sampling/free_flight.h, one exp for grey media. A heterogeneous medium
-// would answer sampleDistance by delta tracking against a majorant and transit by ratio
-// tracking (the densities then being those of the tracking's own events).
+// Homogeneous media (coefficients in 1/m, Henyey–Greenstein anisotropy g) answer in closed
+// form (sampling/free_flight.h), one exp for grey media. A medium with a density grid
+// (coefficients per unit density; scene/heterogeneous_medium.cpp) answers sampleDistance by
+// delta (spectral) tracking against the grid's majorants and transit by ratio tracking; its
+// densities are deterministic stand-ins (docs/mis.md, "heterogeneous media").
 //
 // Coloured media (docs/path-tracer.md, "coloured media"): the caller says with what
 // probability each channel drives the distance (its `channels` weights: the path throughput
@@ -19,8 +20,10 @@
 // extinction and the weight divides by the mixture Σ_c w_c·p_c. The densities come back per
 // channel so that the caller can form any mixture it needs.
 #pragma once
+#include <memory>
 #include <string>
 #include "brume/math/channels.h"
+#include "brume/math/mat4.h"
 #include "brume/math/ray.h"
 #include "brume/sampling/sampler.h"
 
@@ -45,11 +48,28 @@ struct MediumTransit {
     Channels fwd, rev;  // walk t0 → t1, walk t1 → t0
 };
 
+struct DensityGrid;
+
+// Where a medium's density grid sits. indexToWorld: the grid's own transform; a medium inside
+// a mesh has it composed with the mesh node's (place()); worldToLocal: world → the grid's
+// local voxel coordinates (DensityGrid::local), what the queries use.
+struct GridPlacement {
+    std::shared_ptr<const DensityGrid> grid;
+    Mat4 indexToWorld;
+    Mat4 worldToLocal;
+    float scale = 1;  // the grid's values times scale are the density
+    bool placedByNode = false;  // (loader bookkeeping: one node's transform places it)
+    // Sets worldToLocal for the grid's index space placed by `node` (identity: world space).
+    void place(const Mat4& node);
+};
+
 struct Medium {
     std::string name;
-    Spectrum sigmaS;  // scattering
-    Spectrum sigmaA;  // absorption
+    Spectrum sigmaS;  // scattering (per unit density where there is a grid)
+    Spectrum sigmaA;  // absorption (likewise)
     float g = 0;      // HG anisotropy, (−1, 1)
+    GridPlacement density;  // no grid: homogeneous
+    bool heterogeneous() const { return density.grid != nullptr; }
     Spectrum sigmaT() const { return sigmaS + sigmaA; }
     // One extinction for all channels: distance sampling needs no channel choice.
     bool grey() const {
@@ -65,7 +85,14 @@ struct Medium {
                                 Spectrum channels, bool startIsPoint) const;
     MediumTransit transit(const Ray& ray, float t0, float t1, bool startIsPoint, bool endIsPoint) const;
     Spectrum transmittance(const Ray& ray, float t0, float t1) const;
-    Spectrum sigmaSAt(Vec3 p) const { return sigmaS; }
+    Spectrum sigmaSAt(Vec3 p) const { return heterogeneous() ? sigmaS * densityAt(p) : sigmaS; }
+    // The density (grid value × scale) at a world point: 1 in homogeneous media.
+    float densityAt(Vec3 p) const;
+
+private:
+    MediumSample trackDistance(const Ray& ray, float t0, float t1, float uDistance, Spectrum channels,
+                               bool startIsPoint) const;
+    MediumTransit ratioTrack(const Ray& ray, float t0, float t1, bool startIsPoint, bool endIsPoint) const;
 };
 
 // The channel weights of a sample with hero channel h (bidirectional walks): all on h.

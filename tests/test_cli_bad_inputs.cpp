@@ -85,7 +85,19 @@ const BadFile kBadFiles[] = {
     {"no_camera.gltf", "cameras: no perspective camera"},
     {"medium_out_of_range.gltf", "BRUME_media.interior: medium 3 out of range (1 in file)"},
     {"cyclic_nodes.gltf", "cycle in the node hierarchy: node 1 -> node 3 -> node 1"},
+    {"grid_missing_file.gltf", "density.uri: cannot open '"},
+    {"grid_not_vdb.gltf", "not_a_grid.vdb: cannot read the OpenVDB file"},
+    {"grid_missing_name.gltf", "smoke_ok.vdb: no grid named \"temperature\""},
+    {"grid_vector.gltf", "vector.vdb: grid \"density\" holds vec3s values, not float"},
+    {"grid_negative_voxel.gltf", "negative.vdb: grid \"density\" has a negative voxel value -1.000000 at (2, 1, 3)"},
+    {"grid_nan_voxel.gltf", "nan.vdb: grid \"density\" has a NaN voxel value"},
+    {"grid_frustum.gltf", "frustum.vdb: grid \"density\" has a non-affine (NonlinearFrustumMap) transform"},
+    {"grid_negative_scale.gltf", "density.scale: scale -2 must be finite and >= 0"},
 };
+
+// The density grids the grid_*.gltf files point at (make_bad.py).
+const char* const kBadGridFiles[] = {"smoke_ok.vdb", "negative.vdb", "nan.vdb", "vector.vdb", "frustum.vdb",
+                                     "not_a_grid.vdb"};
 
 }  // namespace
 
@@ -93,6 +105,7 @@ TEST_CASE("bad inputs: every file in tests/data/bad has a case", "[cli][bad]") {
     std::vector<std::string> files, expected{"make_bad.py", "valid_base.gltf"};
     for (const auto& e : fs::directory_iterator(kBad)) files.push_back(e.path().filename().string());
     for (const BadFile& f : kBadFiles) expected.push_back(f.name);
+    for (const char* f : kBadGridFiles) expected.push_back(f);
     std::sort(files.begin(), files.end());
     std::sort(expected.begin(), expected.end());
     CHECK(files == expected);

@@ -1,6 +1,9 @@
 // glTF loader: the BRUME_media extension (homogeneous media, the ambient medium, and the
 // medium a closed mesh encloses).
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
 
 #include "brume/scene/gltf_detail.h"
@@ -54,7 +57,13 @@ void parseDensity(const Source& src, const tinygltf::Value& d, const std::string
         const size_t slash = src.path.find_last_of('/');
         if (slash != std::string::npos) path = src.path.substr(0, slash + 1) + path;
     }
-    VdbDensity vdb = loadVdbDensity(path, gridName);
+    VdbDensity vdb;
+    if (!std::ifstream(path)) src.fail(field + ".uri", "cannot open '" + path + "': " + std::strerror(errno));
+    try {
+        vdb = loadVdbDensity(path, gridName);
+    } catch (const SceneError& e) {
+        src.fail(field + ".uri", e.what());  // "<vdb path>: <problem>", after the scene's path and field
+    }
     medium.density.grid = vdb.grid;
     medium.density.indexToWorld = vdb.indexToWorld;
     medium.density.scale = float(scale);

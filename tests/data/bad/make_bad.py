@@ -2,7 +2,8 @@
 """Writes the corpus of bad scene files in tests/data/bad/ (for tests/test_cli_bad_inputs.cpp).
 
 Run: /usr/bin/python3 tests/data/bad/make_bad.py
-Standard library only (it uses scenes/gltfgen.py); deterministic output. Each file starts from
+Standard library (and scenes/gltfgen.py) for the glTF files; the bad density grids (.vdb)
+need Debian's python3-openvdb. Deterministic glTF output. Each file starts from
 the same small valid scene (a camera looking at a grey quad in fog, lit by a point light) and
 breaks exactly one thing, named by the file and described by the function that writes it. The
 test runs brume on each and expects a one-line error naming the file and the problem; a file
@@ -142,6 +143,61 @@ def cyclic_nodes():
     write_json("cyclic_nodes.gltf", doc)
 
 
+def grid(name, values, vector=False, frustum=False, nan_at=None):
+    """A small .vdb holding one grid "density" over voxels (0..3)^3 (values: a callable of
+    (i, j, k)), a vec3 grid if vector, with a frustum transform if frustum, a NaN at voxel
+    nan_at (set afterwards: copyFromArray leaves NaNs out)."""
+    import numpy as np
+    import pyopenvdb as vdb
+    if vector:
+        arr = np.ones((4, 4, 4, 3), dtype=np.float32)
+        gr = vdb.Vec3SGrid()
+    else:
+        arr = np.fromfunction(values, (4, 4, 4), dtype=np.float32).astype(np.float32)
+        gr = vdb.FloatGrid()
+    gr.copyFromArray(arr, ijk=(0, 0, 0), tolerance=(0, 0, 0) if vector else 0)
+    gr.name = "density"
+    if nan_at is not None:
+        gr.getAccessor().setValueOn(nan_at, float("nan"))
+    if frustum:
+        gr.transform = vdb.createFrustumTransform(xyzMin=(0, 0, 0), xyzMax=(4, 4, 4), taper=0.5, depth=2.0)
+    else:
+        gr.transform = vdb.createLinearTransform(voxelSize=0.25)
+    vdb.write(os.path.join(HERE, name), grids=[gr])
+
+
+def with_grid(name, uri, grid_name=None, scale=None):
+    """The base scene with its fog given a density grid."""
+    doc = base().document()
+    density = {"uri": uri}
+    if grid_name is not None:
+        density["grid"] = grid_name
+    if scale is not None:
+        density["scale"] = scale
+    doc["extensions"]["BRUME_media"]["media"][0]["density"] = density
+    write_json(name, doc)
+
+
+def bad_grids():
+    """Density grids: a missing file, a file that is not OpenVDB, a missing grid name, a vec3
+    grid, negative and NaN voxels, a frustum (non-affine) transform, a negative scale."""
+    grid("smoke_ok.vdb", lambda i, j, k: 0.5 + 0.0 * i)
+    grid("negative.vdb", lambda i, j, k: 0.5 - (i == 2) * (j == 1) * (k == 3) * 1.5)
+    grid("nan.vdb", lambda i, j, k: 0.5 + 0.0 * i, nan_at=(1, 1, 1))
+    grid("vector.vdb", None, vector=True)
+    grid("frustum.vdb", lambda i, j, k: 0.5 + 0.0 * i, frustum=True)
+    with open(os.path.join(HERE, "not_a_grid.vdb"), "w") as f:
+        f.write("this is not an OpenVDB file\n")
+    with_grid("grid_missing_file.gltf", "no_such_smoke.vdb")
+    with_grid("grid_not_vdb.gltf", "not_a_grid.vdb")
+    with_grid("grid_missing_name.gltf", "smoke_ok.vdb", grid_name="temperature")
+    with_grid("grid_vector.gltf", "vector.vdb", grid_name="density")
+    with_grid("grid_negative_voxel.gltf", "negative.vdb")
+    with_grid("grid_nan_voxel.gltf", "nan.vdb")
+    with_grid("grid_frustum.gltf", "frustum.vdb")
+    with_grid("grid_negative_scale.gltf", "smoke_ok.vdb", scale=-2.0)
+
+
 def main():
     valid_base()
     truncated_glb()
@@ -154,6 +210,7 @@ def main():
     no_camera()
     medium_out_of_range()
     cyclic_nodes()
+    bad_grids()
 
 
 if __name__ == "__main__":

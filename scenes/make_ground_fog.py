@@ -3,7 +3,8 @@
 in a walled yard at night, lit by two lamps on posts.
 
 Run: /usr/bin/python3 scenes/make_ground_fog.py   (needs Debian's python3-numpy and
-python3-openvdb). Deterministic: the noise comes from a fixed seed.
+python3-openvdb). The voxel values are deterministic (a fixed seed); the .vdb header carries
+a random UUID.
 
 The fog is the scene's ambient medium, a density grid in world space (docs/scene-format.md,
 "density grids"): density = fbm(x, y, z) * exp(-y / 0.7), where fbm is four octaves of
@@ -85,11 +86,22 @@ def add_box(b, name, material, lo, hi):
     b.add_node(name, mesh=b.add_mesh(name, pos, idx, normals=nrm, material=material))
 
 
-def write_scene(path):
+def write_scene(path, homogeneous_density=None):
+    """homogeneous_density: instead of the grid, a homogeneous medium of that density filling
+    the grid's box (an invisible boundary): the cost comparison of docs/results.md."""
     b = g.GltfBuilder("brume scenes/make_ground_fog.py")
-    fog = b.add_medium("ground_fog", scattering=0.45, absorption=0.02, anisotropy=0.3,
-                       density={"uri": "ground_fog.vdb", "grid": "density", "scale": 1.0})
-    b.set_ambient(fog)
+    if homogeneous_density is None:
+        fog = b.add_medium("ground_fog", scattering=0.45, absorption=0.02, anisotropy=0.3,
+                           density={"uri": "ground_fog.vdb", "grid": "density", "scale": 1.0})
+        b.set_ambient(fog)
+    else:
+        fog = b.add_medium("ground_fog", scattering=0.45 * homogeneous_density,
+                           absorption=0.02 * homogeneous_density, anisotropy=0.3)
+        lo = tuple(VOXEL * v for v in LO)
+        hi = tuple(VOXEL * v for v in HI)
+        size = g.sub(hi, lo)
+        pos, _nrm, _uvs, idx = g.box(size, g.scale(g.add(lo, hi), 0.5))
+        b.add_node("fog_box", mesh=b.add_mesh("fog_box", pos, idx, interior=fog))
     ground = b.add_material("ground", base_color=(0.16, 0.16, 0.15), roughness=1.0)
     stone = b.add_material("stone", base_color=(0.35, 0.33, 0.3), roughness=1.0)
     iron = b.add_material("iron", base_color=(0.05, 0.05, 0.055), roughness=0.8)
@@ -122,6 +134,11 @@ def write_scene(path):
 
 
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--homogeneous":
+        # python3 make_ground_fog.py --homogeneous OUT.gltf: the mean-density variant
+        mean = float(density_field().mean())
+        print("%s (homogeneous, density %.4f)" % (write_scene(sys.argv[2], mean), mean))
+        return
     write_grid(os.path.join(HERE, "ground_fog.vdb"))
     print(os.path.relpath(write_scene(os.path.join(HERE, "ground_fog.gltf")), os.getcwd()))
 

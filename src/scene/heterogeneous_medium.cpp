@@ -60,7 +60,9 @@ struct LocalRay {
 
 LocalRay toLocal(const GridPlacement& g, const Ray& ray) { return {g.worldToLocal.point(ray.o), g.worldToLocal.vector(ray.d)}; }
 
-float sampleExp(float rate, float u) { return -std::log1p(-u) / rate; }
+// u is a multiple of 2^-24 (toUnitFloat), so 1 − u is exact and logf is as accurate as
+// log1pf here, at about half its cost (log1pf was a fifth of a heterogeneous render).
+float sampleExp(float rate, float u) { return -std::log(1.0f - u) / rate; }
 
 }  // namespace
 

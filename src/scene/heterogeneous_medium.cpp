@@ -60,6 +60,20 @@ struct LocalRay {
 
 LocalRay toLocal(const GridPlacement& g, const Ray& ray) { return {g.worldToLocal.point(ray.o), g.worldToLocal.vector(ray.d)}; }
 
+// The stand-in densities of a piece [t0, t1] whose brick-mean optical depth (grid units) is
+// tau: fwd, of a walk from t0 stopping at t1 (scattering there if t1 is a medium point, else
+// passing); rev, of the walk the other way.
+void standIns(const DensityGrid& grid, const LocalRay& lr, Spectrum k, double tau, float t0, float t1,
+              bool startIsPoint, bool endIsPoint, Channels* fwd, Channels* rev) {
+    const double rho1 = endIsPoint ? grid.lookup(lr.q0 + lr.dq * t1) : 0.0;
+    const double rho0 = startIsPoint ? grid.lookup(lr.q0 + lr.dq * t0) : 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const double pass = std::exp(-double(k[c]) * tau);
+        (*fwd)[c] = endIsPoint ? k[c] * rho1 * pass : pass;
+        (*rev)[c] = startIsPoint ? k[c] * rho0 * pass : pass;
+    }
+}
+
 // u is a multiple of 2^-24 (toUnitFloat), so 1 − u is exact and logf is as accurate as
 // log1pf here, at about half its cost (log1pf was a fifth of a heterogeneous render).
 float sampleExp(float rate, float u) { return -std::log(1.0f - u) / rate; }
@@ -130,13 +144,7 @@ MediumSample Medium::trackDistance(const Ray& ray, float t0, float t1, float uDi
         return ms;
     }
     ms.weight = W;
-    const double rhoEnd = real ? grid.lookup(lr.q0 + lr.dq * tHit) : 0.0;
-    const double rhoStart = startIsPoint ? grid.lookup(lr.q0 + lr.dq * t0) : 0.0;
-    for (int c = 0; c < 3; ++c) {
-        const double pass = std::exp(-double(k[c]) * tau);
-        ms.fwd[c] = real ? k[c] * rhoEnd * pass : pass;
-        ms.rev[c] = startIsPoint ? k[c] * rhoStart * pass : pass;
-    }
+    standIns(grid, lr, k, tau, t0, tHit, startIsPoint, real, &ms.fwd, &ms.rev);
     ms.pdf = grey ? ms.fwd[0] : ms.fwd.mix(channels);
     return ms;
 }
@@ -165,13 +173,7 @@ MediumTransit Medium::ratioTrack(const Ray& ray, float t0, float t1, bool startI
         });
         tr.T = T;
     }
-    const double rho1 = endIsPoint ? grid.lookup(lr.q0 + lr.dq * t1) : 0.0;
-    const double rho0 = startIsPoint ? grid.lookup(lr.q0 + lr.dq * t0) : 0.0;
-    for (int c = 0; c < 3; ++c) {
-        const double pass = std::exp(-double(k[c]) * tau);
-        tr.fwd[c] = endIsPoint ? k[c] * rho1 * pass : pass;
-        tr.rev[c] = startIsPoint ? k[c] * rho0 * pass : pass;
-    }
+    standIns(grid, lr, k, tau, t0, t1, startIsPoint, endIsPoint, &tr.fwd, &tr.rev);
     return tr;
 }
 

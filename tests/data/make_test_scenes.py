@@ -58,12 +58,15 @@ def inward_sphere(radius):
     return pos, idx
 
 
-def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorption=0.0, anisotropy=0.5):
-    """wall_albedo and wall_emission: a grey value or an RGB triple."""
+def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorption=0.0, anisotropy=0.5,
+            medium_name="fog", density=None, node_translation=None, node_rotation=None):
+    """wall_albedo and wall_emission: a grey value or an RGB triple. density: a density grid
+    for the medium (BRUME_media "density"); node_*: the wall node's transform."""
     rgb = lambda v: tuple(v) if isinstance(v, (tuple, list)) else (v,) * 3
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, 1.0)
-    fog = b.add_medium("fog", scattering=scattering, absorption=absorption, anisotropy=anisotropy)
+    fog = b.add_medium(medium_name, scattering=scattering, absorption=absorption, anisotropy=anisotropy,
+                       density=density)
     wall = b.add_material("wall", base_color=rgb(wall_albedo), metallic=0.0, roughness=1.0,
                           emissive=rgb(wall_emission))
     pos, idx = inward_sphere(FURNACE_RADIUS)
@@ -72,7 +75,7 @@ def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorptio
         mesh = b.add_mesh("wall", pos, idx, material=wall)
     else:
         mesh = b.add_mesh("wall", pos, idx, material=wall, interior=fog)
-    b.add_node("wall", mesh=mesh)
+    b.add_node("wall", mesh=mesh, translation=node_translation, rotation=node_rotation)
     return b.write(out(name))
 
 
@@ -304,20 +307,9 @@ def furnace_field(x, y, z):
 def furnace_grid(name, scattering, node_translation=None, node_rotation=None, ambient=True):
     """The furnace (walls emit 1, albedo 0) filled with a non-absorbing grid medium: radiance
     exactly 1. Bounded: the grid is placed by the wall mesh's node (moved and turned)."""
-    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
-    camera_at_origin(b, 1.0)
-    fog = b.add_medium("smoke", scattering=scattering, absorption=0.0, anisotropy=0.5,
-                       density={"uri": "furnace_grid.vdb", "grid": "density", "scale": 1.0})
-    wall = b.add_material("wall", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
-                          emissive=(1.0, 1.0, 1.0))
-    pos, idx = inward_sphere(FURNACE_RADIUS)
-    if ambient:
-        b.set_ambient(fog)
-        mesh = b.add_mesh("wall", pos, idx, material=wall)
-    else:
-        mesh = b.add_mesh("wall", pos, idx, material=wall, interior=fog)
-    b.add_node("wall", mesh=mesh, translation=node_translation, rotation=node_rotation)
-    return b.write(out(name))
+    return furnace(name, ambient, wall_albedo=0.0, wall_emission=1.0, scattering=scattering, medium_name="smoke",
+                   density={"uri": "furnace_grid.vdb", "grid": "density", "scale": 1.0},
+                   node_translation=node_translation, node_rotation=node_rotation)
 
 
 # The absorbing ramp (test_heterogeneous): density 0.6 + 0.25 x + 0.1 y inside the box

@@ -19,7 +19,7 @@ namespace {
 constexpr char kMagic[8] = {'B', 'R', 'U', 'M', 'E', 'C', 'K', 'P'};
 constexpr uint32_t kMaxString = 4096;
 constexpr uint32_t kMaxSettings = 256;
-constexpr size_t kChunk = 8192;  // doubles converted per write/read
+constexpr size_t kChunk = 8192;  // sums converted per write/read
 
 std::string temporaryPathFor(const std::string& path) { return path + ".tmp-" + std::to_string(long(::getpid())); }
 
@@ -62,16 +62,17 @@ public:
         u32(uint32_t(s.size()));
         bytes(s.data(), s.size());
     }
-    void doubles(const std::vector<double>& v) {
-        std::vector<unsigned char> buffer(8 * kChunk);
+    // Film sums: each as two u64, low then high half of the two's complement.
+    void sums(const std::vector<Film::Sum>& v) {
+        std::vector<unsigned char> buffer(16 * kChunk);
         for (size_t i = 0; i < v.size(); i += kChunk) {
             size_t n = std::min(kChunk, v.size() - i);
             for (size_t k = 0; k < n; ++k) {
-                uint64_t bits;
-                std::memcpy(&bits, &v[i + k], 8);
-                putU64(bits, &buffer[8 * k]);
+                const unsigned __int128 bits = static_cast<unsigned __int128>(v[i + k]);
+                putU64(uint64_t(bits), &buffer[16 * k]);
+                putU64(uint64_t(bits >> 64), &buffer[16 * k + 8]);
             }
-            bytes(buffer.data(), 8 * n);
+            bytes(buffer.data(), 16 * n);
         }
     }
     uint64_t hash() const { return hash_.value(); }
@@ -116,15 +117,16 @@ public:
         bytes(s.data(), n);
         return s;
     }
-    std::vector<double> doubles(size_t count) {
-        std::vector<double> v(count);
-        std::vector<unsigned char> buffer(8 * kChunk);
+    std::vector<Film::Sum> sums(size_t count) {
+        std::vector<Film::Sum> v(count);
+        std::vector<unsigned char> buffer(16 * kChunk);
         for (size_t i = 0; i < count; i += kChunk) {
             size_t n = std::min(kChunk, count - i);
-            bytes(buffer.data(), 8 * n);
+            bytes(buffer.data(), 16 * n);
             for (size_t k = 0; k < n; ++k) {
-                uint64_t bits = getU64(&buffer[8 * k]);
-                std::memcpy(&v[i + k], &bits, 8);
+                const unsigned __int128 bits =
+                    (static_cast<unsigned __int128>(getU64(&buffer[16 * k + 8])) << 64) | getU64(&buffer[16 * k]);
+                v[i + k] = static_cast<Film::Sum>(bits);
             }
         }
         return v;
@@ -168,8 +170,7 @@ void writeCheckpoint(const std::string& path, const std::string& scenePath, cons
     w.u64(nonFinite);
     w.u8(film.hasSplats() ? 1 : 0);
     w.u64(integratorState.size());
-    w.doubles(film.sampleSums());
-    if (film.hasSplats()) w.doubles(film.splatSums());
+    w.sums(film.sums());
     w.bytes(integratorState.data(), integratorState.size());
     w.u64(w.hash());
 
@@ -219,20 +220,18 @@ Checkpoint readCheckpoint(const std::string& path) {
     // The rest must be exactly the sums and the checksum: checked before allocating, so a
     // damaged header cannot ask for gigabytes.
     const uint64_t values = 3 * uint64_t(width) * uint64_t(height);
-    const uint64_t expected = 8 * values * (hasSplats ? 2 : 1) + 8;
+    const uint64_t expected = 16 * values + 8;
     if (stateBytes > r.remaining()) fail(path, "truncated checkpoint");
     if (r.remaining() - stateBytes != expected)
         fail(path, r.remaining() - stateBytes < expected ? "truncated checkpoint" : "corrupt checkpoint (trailing bytes)");
-    std::vector<double> sums = r.doubles(size_t(values));
-    std::vector<double> splats;
-    if (hasSplats) splats = r.doubles(size_t(values));
+    std::vector<Film::Sum> sums = r.sums(size_t(values));
     std::string state(size_t(stateBytes), '\0');
     r.bytes(state.data(), state.size());
     const uint64_t computed = r.hash();
     if (r.u64() != computed) fail(path, "corrupt checkpoint (checksum mismatch)");
 
     Film film(width, height);
-    film.restore(passes, std::move(sums), std::move(splats));
+    film.restore(passes, std::move(sums), hasSplats != 0);
     return Checkpoint{std::move(scenePath), std::move(settings), nonFinite, std::move(film), std::move(state)};
 }
 

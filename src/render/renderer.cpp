@@ -246,6 +246,8 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
         throw std::invalid_argument("render size " + std::to_string(options.width) + "x" +
                                     std::to_string(options.height) + " does not match the film (" +
                                     std::to_string(film.width()) + "x" + std::to_string(film.height()) + ")");
+    if (options.firstPass >= 0 && options.passStride < 1)
+        throw std::invalid_argument("passStride must be at least 1, got " + std::to_string(options.passStride));
     if (options.timeBudget <= 0 && options.spp < 1)
         throw std::invalid_argument("spp must be at least 1, got " + std::to_string(options.spp));
     if (!(options.timeBudget >= 0) || options.timeBudget > 1e9)
@@ -270,7 +272,8 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
         for (;;) {
             if (stats.passes > 0 && enough()) break;
             if (cancelled() && (stats.passes > 0 || control.dropInFlight)) break;
-            runner.startPass(film.passes());
+            // The pass's index (its sampler key): the film's next one, or this call's share.
+            runner.startPass(options.firstPass >= 0 ? options.firstPass + stats.passes * options.passStride : film.passes());
             while (!runner.waitPass(std::chrono::milliseconds(200))) {
                 double t = secondsSince(start);
                 double fraction = options.timeBudget > 0

@@ -1,14 +1,18 @@
 // Image accumulation. The renderer works in passes of one sample per pixel; the film keeps,
-// per pixel, the sum of those samples in double RGB and reports their mean over the
-// completed passes.
+// per pixel, the sum of those samples and reports their mean over the completed passes.
 //
-// Splats (contributions that land on arbitrary pixels, e.g. light tracing in a later
-// bidirectional integrator) go to a separate buffer. To keep images independent of the
-// thread count, splats are never added to the film concurrently: each work unit (one tile
-// of one pass) records its splats in its own SplatList, and after the pass the renderer
-// merges the lists in tile order. The set of splats a tile makes depends only on
-// (seed, pixels of the tile, pass), so the summation order — and the image — is fixed.
-// pixel() = (sum of samples + sum of splats) / passes.
+// The sums are exact: every value is converted to a 128-bit fixed-point integer in units of
+// 2^-64 (float values are multiples of 2^-149, so every float of magnitude 2^-40 or more
+// converts exactly; smaller ones are truncated towards zero, a change below 2^-64 absolute;
+// magnitudes above 2^62 are clamped) and integer addition is associative. So the image does
+// not depend on the order in which passes, tiles, threads or MPI ranks add their samples:
+// passes can be rendered anywhere and their sums combined in any order, to the same bits.
+//
+// Splats (contributions that land on arbitrary pixels, e.g. light tracing in the
+// bidirectional integrator) go to the same sums. They are still never added concurrently:
+// each work unit (one tile of one pass) records its splats in its own SplatList, and after
+// the pass the renderer merges the lists.
+// pixel() = sum / passes.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -30,16 +34,17 @@ public:
     // Adds one sample to pixel (x, y). Distinct pixels may be added from different threads
     // at the same time; one pixel must not.
     void add(int x, int y, Spectrum value) {
-        double* p = &sum_[3 * (size_t(y) * size_t(width_) + size_t(x))];
-        p[0] += value.x;
-        p[1] += value.y;
-        p[2] += value.z;
+        Sum* p = &sum_[3 * (size_t(y) * size_t(width_) + size_t(x))];
+        p[0] += toFixed(value.x);
+        p[1] += toFixed(value.y);
+        p[2] += toFixed(value.z);
     }
     // Adds one splat at pixel (x, y) (single-threaded; see the file comment).
     void splat(int x, int y, Spectrum value);
-    // Adds a tile's splats, in their recorded order (single-threaded).
+    // Adds a tile's splats (single-threaded).
     void mergeSplats(const SplatList& splats);
-    bool hasSplats() const { return !splat_.empty(); }
+    // Whether any splat has been added (a checkpoint records it).
+    bool hasSplats() const { return hasSplats_; }
 
     // Marks the end of a pass: every pixel has received its sample (or had it dropped).
     void completePass() { ++passes_; }
@@ -51,19 +56,23 @@ public:
     // Back to black, zero passes.
     void clear();
 
-    // The raw state, for checkpoints: 3 sums per pixel of samples and of splats (the latter
-    // empty until the first splat). restore() puts such a state back exactly (it throws
-    // std::invalid_argument for negative passes or sizes that are not 3 per pixel; splat
-    // sums may be empty).
-    const std::vector<double>& sampleSums() const { return sum_; }
-    const std::vector<double>& splatSums() const { return splat_; }
-    void restore(int passes, std::vector<double> sampleSums, std::vector<double> splatSums);
+    // The exact sums (see the file comment), 3 per pixel, row-major, top row first.
+    __extension__ typedef __int128 Sum;
+    static Sum toFixed(float v);
+    static double fromFixed(Sum s);
+
+    // The raw state, for checkpoints and for combining renders of disjoint passes (MPI
+    // ranks): the sums, the pass count and whether there were splats. restore() puts such a
+    // state back exactly (it throws std::invalid_argument for a negative pass count or sums
+    // that are not 3 per pixel).
+    const std::vector<Sum>& sums() const { return sum_; }
+    void restore(int passes, std::vector<Sum> sums, bool hasSplats);
 
 private:
     int width_, height_;
     int passes_ = 0;
-    std::vector<double> sum_;    // 3 per pixel
-    std::vector<double> splat_;  // 3 per pixel; allocated on the first splat
+    std::vector<Sum> sum_;  // 3 per pixel
+    bool hasSplats_ = false;
 };
 
 }  // namespace brume

@@ -1,6 +1,6 @@
 // Render checkpoints: the film of the passes completed so far, bit for bit, with the settings
 // that made it, so that an interrupted render continues to exactly the image it would have
-// given without stopping (see renderer.h: passes are deterministic and summed in order).
+// given without stopping (see renderer.h: passes are deterministic, film sums exact).
 //
 // File layout (little-endian throughout):
 //   "BRUMECKP"                 8-byte magic
@@ -12,11 +12,12 @@
 //   u64 nonFinite              samples and splats dropped so far
 //   u8 hasSplats
 //   u64 stateBytes             the integrator's state (Integrator::saveState), may be 0
-//   f64 × 3·w·h                sample sums, row-major, top row first
-//   f64 × 3·w·h                splat sums, only if hasSplats
+//   i128 × 3·w·h               the film's exact sums (film.h), row-major, top row first, each
+//                              as u64 low half then u64 high half of the two's complement
 //   stateBytes bytes           the integrator's state
 //   u64 checksum               FNV-1a 64 of every byte before it
-// where str is u32 length + bytes (at most 4096). Doubles are stored as their IEEE bits.
+// where str is u32 length + bytes (at most 4096). Version 3: exact sums (version 2 kept
+// doubles, sample and splat sums apart).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -27,7 +28,7 @@
 
 namespace brume {
 
-constexpr uint32_t kCheckpointVersion = 2;
+constexpr uint32_t kCheckpointVersion = 3;
 
 // (name, value): what must match for a checkpoint to be continued, e.g. ("--spp", "64").
 using CheckpointSettings = std::vector<std::pair<std::string, std::string>>;

@@ -2,10 +2,10 @@
 // 16×16 tiles that persistent worker threads take from an atomic counter; all workers meet
 // at a barrier at the end of each pass. Every pixel sample uses its own
 // Sampler(seed, y·width + x, pass): the jitter inside the pixel first (box filter), then
-// whatever the integrator draws. No sample depends on which thread takes it, each pixel is
-// summed in pass order and splats are merged in tile order, so the same seed gives the same
-// image for any thread count — and a film restored from a checkpoint after pass k continues
-// to the same bits as one that never stopped.
+// whatever the integrator draws. No sample depends on which thread takes it and the film's
+// sums are exact (film.h), so the same seed gives the same image for any thread count — and
+// a film restored from a checkpoint after pass k continues to the same bits as one that never
+// stopped, and passes rendered by several processes sum to the same bits as in one.
 //
 // A pass is rendered into a buffer of its own and added to the film only once all its tiles
 // are done, so a pass can be abandoned half-way (RenderControl::dropInFlight) without a trace.
@@ -28,6 +28,10 @@ struct RenderOptions {
     uint64_t seed = 0;
     SamplerKind sampler = SamplerKind::Sobol;  // sampling/sampler.h
     int threads = 0;            // 0 = std::thread::hardware_concurrency()
+    // Which passes: by default the film's next ones (film.passes(), + 1, ...); with firstPass
+    // ≥ 0, firstPass, firstPass + passStride, ... (a share of a render split over processes).
+    int firstPass = -1;
+    int passStride = 1;
     bool progress = false;      // progress bar on stderr
 };
 

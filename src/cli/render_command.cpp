@@ -17,6 +17,7 @@
 
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
+#include "brume/cli/distributed_render.h"
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
@@ -288,23 +289,72 @@ std::string absolutePath(const std::string& path) {
 
 }  // namespace
 
-int runRender(const std::vector<std::string>& argv) {
+namespace {
+
+// The render on this process; with several ranks, see distributed_render.h. Ranks other than
+// 0 check what they use themselves (arguments, scene) and leave the files to rank 0.
+int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     RenderArgs a;
     if (!parseRenderArgs(argv, a)) return kExitOk;
+    const bool lead = group.rank() == 0;
+    if (group.distributed() && !a.strategyDir.empty())
+        throw UsageError("--strategy-images needs a single process (not mpirun)");
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
-    checkImageWritable(a.output);  // std::runtime_error: exit code 1
 
-    if (!a.checkpoint.empty()) checkCheckpointWritable(a.checkpoint);
+    // Whatever fails on one rank (a file only rank 0 touches) must stop them all: the ranks
+    // agree before any collective work.
     std::optional<Checkpoint> resumed;
-    if (!a.resume.empty()) resumed = readCheckpoint(a.resume);  // a bad file fails before the scene loads
+    std::exception_ptr setupError;
+    try {
+        if (lead) {
+            checkImageWritable(a.output);  // std::runtime_error: exit code 1
+            if (!a.checkpoint.empty()) checkCheckpointWritable(a.checkpoint);
+            if (!a.resume.empty()) resumed = readCheckpoint(a.resume);  // a bad file fails before the scene loads
+        }
+    } catch (...) {
+        setupError = std::current_exception();
+    }
+    if (!group.allOk(!setupError)) {
+        if (setupError) std::rethrow_exception(setupError);
+        return kExitFailure;  // (rank 0 reports it)
+    }
 
-    SceneDescription desc = loadSceneDescription(a.scene);
-    Resolution res = imageResolution(desc.camera, a.res);
-    Scene scene(std::move(desc));
+    std::optional<Scene> sceneStorage;
+    Resolution res;
+    try {
+        SceneDescription desc = loadSceneDescription(a.scene);
+        res = imageResolution(desc.camera, a.res);
+        sceneStorage.emplace(std::move(desc));
+    } catch (...) {
+        setupError = std::current_exception();
+    }
+    if (!group.allOk(!setupError)) {
+        if (setupError) std::rethrow_exception(setupError);
+        return kExitFailure;
+    }
+    const Scene& scene = *sceneStorage;
+    if (group.distributed()) {
+        // Every rank must render the same thing: its arguments and its scene file's bytes.
+        Fnv1a64 h;
+        const uint64_t sceneHash = fnv1a64File(a.scene);
+        h.add(&sceneHash, sizeof sceneHash);
+        for (const std::string& arg : argv) h.add(arg.c_str(), arg.size() + 1);  // (with its terminator)
+        const uint64_t key = h.value();
+        std::vector<int> differing = group.ranksDiffering(key);
+        std::string which;
+        for (int r : differing) which += (which.empty() ? "" : ", ") + std::to_string(r);
+        const bool same = group.allOk(differing.empty());
+        if (!same) {
+            if (lead)
+                throw UsageError("rank" + std::string(differing.size() > 1 ? "s " : " ") + which +
+                                 " started with other arguments or another scene file than rank 0");
+            return kExitUsage;
+        }
+    }
 
     PathTracerOptions ptOptions;
     ptOptions.maxDepth = a.maxDepth;
@@ -346,6 +396,13 @@ int runRender(const std::vector<std::string>& argv) {
         resumed.reset();
         std::fprintf(stderr, "brume: resuming %s at pass %d of %d\n", a.resume.c_str(), film.passes(), a.spp);
     }
+    // Other ranks start from the resumed pass with rank 0's integrator state (auto's planner).
+    int donePasses = film.passes();
+    if (group.distributed()) {
+        donePasses = std::stoi(group.broadcast(std::to_string(donePasses)));
+        const std::string state = group.broadcast(lead ? integrator.saveState() : std::string());
+        if (!lead) integrator.loadState(state);
+    }
 
     RenderOptions options;
     options.width = res.width;
@@ -377,7 +434,33 @@ int runRender(const std::vector<std::string>& argv) {
     catchSignals();  // kept to the end: a signal while the files are written does not cut them short
     if (a.stopAfterPasses == 0) ::raise(SIGTERM);
     RenderStats stats;
-    if (a.seconds > 0 || film.passes() < a.spp) {
+    DistributedResult shared;
+    if (group.distributed()) {
+        PassPlan plan;
+        plan.firstPass = donePasses;
+        plan.lastPass = a.seconds > 0 ? -1 : a.spp;
+        plan.timeBudget = a.seconds;
+        // auto decides after its pilot passes: every rank renders them, so all decide alike.
+        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kDecisionPass + 1) : donePasses;
+        options.progress = false;
+        auto interrupted = [&] {
+            if (lead && a.stopAfterPasses > 0 && film.passes() - donePasses >= a.stopAfterPasses) ::raise(SIGTERM);
+            return gInterrupted.load();
+        };
+        auto save = [&](const Film& f, uint64_t nf) {
+            try {
+                writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + nf, integrator.saveState());
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "brume: warning: %s\n", e.what());
+            }
+        };
+        shared = renderOnRanks(group, scene, integrator, options, film, plan, interrupted,
+                               a.checkpoint.empty() ? 0.0 : a.checkpointEvery, save);
+        stats = shared.stats;
+        if (shared.stopped && gSignal.load() == 0) gSignal.store(SIGTERM);  // stopped for another rank
+        if (shared.stopped) gInterrupted.store(true);
+        if (!lead) return shared.stopped ? exitCodeFor(gSignal.load()) : kExitOk;
+    } else if (a.seconds > 0 || film.passes() < a.spp) {
         RenderOptions rest = options;
         rest.spp = a.spp - film.passes();  // ignored with --time
         stats = render(scene, integrator, rest, film, control);
@@ -419,6 +502,20 @@ int runRender(const std::vector<std::string>& argv) {
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
+    if (group.distributed()) {
+        // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
+        // rendering time over the busiest one's.
+        double lo = 1e300, hi = 0;
+        std::string perRank;
+        for (size_t r = 0; r < shared.ranks.size(); ++r) {
+            const RankReport& rr = shared.ranks[r];
+            lo = std::min(lo, rr.busySeconds);
+            hi = std::max(hi, rr.busySeconds);
+            perRank += (r ? ", " : "") + std::to_string(int(rr.busySeconds > 0 ? rr.samples / rr.busySeconds : 0.0));
+        }
+        std::printf("ranks: %d; samples/s per rank: %s; load balance %.2f (least over most busy); reduction %.3f s\n",
+                    group.size(), perRank.c_str(), hi > 0 ? lo / hi : 1.0, shared.reduceSeconds);
+    }
     std::fflush(stdout);
     if (gInterrupted.load()) {
         std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));
@@ -428,6 +525,21 @@ int runRender(const std::vector<std::string>& argv) {
         return exitCodeFor(sig);
     }
     return kExitOk;
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& argv) {
+    RankGroup group;
+    if (group.rank() == 0) return renderOn(group, argv);
+    // Ranks other than 0 fail quietly: rank 0 reports the same problem.
+    try {
+        return renderOn(group, argv);
+    } catch (const UsageError&) {
+        return kExitUsage;
+    } catch (...) {
+        return kExitFailure;
+    }
 }
 
 }  // namespace brume::cli

@@ -1,0 +1,158 @@
+// One render over several MPI ranks (`mpirun -np N brume render ...`, docs/mpi.md), on this
+// machine (--oversubscribe): the image is the single-process image bit for bit, for pt, bdpt
+// and auto on 2 and 3 ranks; a checkpoint made on 3 ranks resumes on 2 to the same bits; a
+// rank started with other arguments is refused before rendering; a killed rank fails the job
+// and leaves the last checkpoint readable. Tagged [mpi] (CTest label "mpi"); without an MPI
+// build (BRUME_TEST_MPI 0) or without mpirun they pass with a warning that they did not run.
+#include <catch2/catch.hpp>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "brume/render/checkpoint.h"
+#include "support/run_brume.h"
+#include "support/scratch_files.h"
+
+using namespace brume;
+using namespace brume::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = std::string(BRUME_SCENES) + "/bench_fog_room.gltf";
+
+bool mpiAvailable() {
+    if (!BRUME_TEST_MPI) return false;
+    return std::system("command -v mpirun >/dev/null 2>&1") == 0;
+}
+
+// mpirun as root (CI) and with more ranks than cores.
+std::string mpirun(int ranks) {
+    return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 "
+           "mpirun --oversubscribe -np " +
+           std::to_string(ranks) + " ";
+}
+
+struct Run {
+    int code = -1;
+    std::string out, err;
+};
+
+Run shell(const std::string& command) {
+    TempDir capture;
+    const std::string full = "(" + command + ") >" + quote(capture / "out") + " 2>" + quote(capture / "err") +
+                             " </dev/null";
+    const int status = std::system(full.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(capture / "out"), readFile(capture / "err")};
+}
+
+const std::string kRender = " render " + quote(kScene) + " --res 48x36 --threads 1 ";
+
+}  // namespace
+
+TEST_CASE("mpi: 2 and 3 ranks give the single-process image, bit for bit", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    for (const char* integrator : {"pt", "bdpt", "auto"}) {
+        const std::string flags = kRender + "--spp 9 --seed 5 --integrator " + integrator;
+        const std::string single = dir / (std::string(integrator) + "_1.exr");
+        BrumeResult one = runBrume(flags + " -o " + quote(single));
+        REQUIRE(one.code == 0);
+        for (int ranks : {2, 3}) {
+            const std::string out = dir / (std::string(integrator) + "_" + std::to_string(ranks) + ".exr");
+            Run r = shell(mpirun(ranks) + quote(BRUME_EXE) + flags + " -o " + quote(out));
+            INFO(integrator << " on " << ranks << " ranks: " << r.err);
+            REQUIRE(r.code == 0);
+            CHECK(r.out.find("ranks: " + std::to_string(ranks)) != std::string::npos);
+            CHECK(readFile(out) == readFile(single));
+        }
+    }
+}
+
+TEST_CASE("mpi: a checkpoint made on 3 ranks resumes on 2 to the same bits", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    for (const char* integrator : {"pt", "auto"}) {
+        const std::string flags = kRender + "--spp 12 --integrator " + integrator;
+        const std::string single = dir / "single.exr", out = dir / "out.exr", ckpt = dir / "state.ckpt";
+        REQUIRE(runBrume(flags + " -o " + quote(single)).code == 0);
+        // Stopped (as by SIGTERM) after rank 0's second pass: the ranks agree, write the
+        // passes done so far and the checkpoint, and exit with 143.
+        Run first = shell(mpirun(3) + quote(BRUME_EXE) + flags + " -o " + quote(out) + " --checkpoint " + quote(ckpt) +
+                          " --stop-after-passes 2");
+        INFO(integrator << ": " << first.err);
+        CHECK(first.code != 0);
+        REQUIRE(fs::exists(ckpt));
+        const int saved = readCheckpoint(ckpt).film.passes();
+        CHECK(saved > 0);
+        CHECK(saved < 12);
+        Run second = shell(mpirun(2) + quote(BRUME_EXE) + flags + " -o " + quote(out) + " --checkpoint " + quote(ckpt) +
+                           " --resume " + quote(ckpt));
+        INFO(second.err);
+        REQUIRE(second.code == 0);
+        CHECK(readFile(out) == readFile(single));
+        CHECK_FALSE(fs::exists(ckpt));  // complete: removed
+    }
+}
+
+TEST_CASE("mpi: a rank started with other arguments is refused before rendering", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "out.exr";
+    const std::string a = quote(BRUME_EXE) + kRender + "--spp 2 -o " + quote(out);
+    Run r = shell("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 1 " + a +
+                  " --seed 1 : -np 1 " + a + " --seed 2");
+    INFO(r.err);
+    CHECK(r.code != 0);
+    CHECK(r.err.find("rank 1 started with other arguments or another scene file than rank 0") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("mpi: a killed rank fails the job and the last checkpoint stays valid", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "out.exr", ckpt = dir / "state.ckpt", marker = dir / "rank1.pid";
+    // A long render that saves every 0.2 s; rank 1 writes its pid for the test to kill.
+    const std::string job = mpirun(2) + "sh -c 'if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then echo $$ > " + quote(marker) +
+                            "; fi; exec " + quote(BRUME_EXE) + kRender + "--spp 100000 --integrator pt -o " + quote(out) +
+                            " --checkpoint " + quote(ckpt) + " --checkpoint-every 0.2'";
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        const std::string full = job + " >" + quote(dir / "job.out") + " 2>" + quote(dir / "job.err") + " </dev/null";
+        ::execl("/bin/sh", "sh", "-c", full.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!(fs::exists(ckpt) && fs::exists(marker)) && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    REQUIRE(fs::exists(ckpt));
+    const pid_t rank1 = pid_t(std::stol(readFile(marker)));
+    ::kill(rank1, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    INFO(readFile(dir / "job.err"));
+    CHECK((!WIFEXITED(status) || WEXITSTATUS(status) != 0));
+    CHECK_FALSE(fs::exists(out));
+    Checkpoint c = readCheckpoint(ckpt);  // throws if damaged
+    CHECK(c.film.passes() > 0);
+}

@@ -1226,6 +1226,72 @@ def make_fog_room(path):
     return b.write(path)
 
 
+def make_panel_bench(path):
+    """Benchmark scene for area lights close to the view: open isotropic fog (scattering
+    0.1 /m, absorption 0.01 /m) under a one-sided 1.0 m x 1.5 m ceiling panel (radiance 10,
+    facing down). The camera is pitched down by half its field of view, so the top of the
+    view is level, and the panel's plane runs 6 cm above it: the top rows graze the panel."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    yfov, aspect, eye = 0.6, 1.5, (0.0, 1.5, 0.0)
+    pitch = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * yfov)
+    b.add_camera("camera", yfov=yfov, aspect_ratio=aspect, translation=eye, rotation=pitch)
+    top = g.quat_rotate(pitch, (0.0, math.tan(0.5 * yfov), -1.0))
+    assert abs(top[1]) < 1e-9, "the top of the view is level"
+    b.set_ambient(b.add_medium("fog", 0.1, 0.01, 0.0))
+    m_panel = b.add_material("panel", base_color=(0.0, 0.0, 0.0), emissive=(1.0, 1.0, 1.0), emissive_strength=10.0)
+    panel = g.quad((0.0, eye[1] + 0.06, -3.5), (0.5, 0.0, 0.0), (0.0, 0.0, 0.75))
+    assert panel[1][0][1] < -0.999, "the panel faces down"
+    b.add_node("panel", mesh=b.add_mesh("panel", *_pnui(panel), material=m_panel))
+    return b.write(path)
+
+
+def make_panel_room(path):
+    """A foggy studio under a large ceiling panel (bundled gallery scene for area lights close
+    to the fog): a room 7 m x 3.2 m x 9 m (x -3.5..3.5, y 0..3.2, z -8..1), grey walls
+    (albedo 0.45), a darker floor, a table and two crates; a 2.4 m x 1.4 m softbox panel
+    (radiance 6, warm white, facing down) 2 cm under the ceiling; a small cool strip light
+    on the back wall; isotropic haze (scattering 0.12 /m, absorption 0.01 /m) fills the room."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    W, H, Z0, Z1 = 3.5, 3.2, -8.0, 1.0
+    eye = (1.6, 1.45, 0.3)
+    target = (-0.3, 1.9, -4.2)
+    b.add_camera("camera", yfov=0.9, aspect_ratio=1.5, translation=eye, rotation=g.quat_look_at(eye, target))
+    b.set_ambient(b.add_medium("haze", 0.12, 0.01, 0.0))
+    m_wall = b.add_material("wall", base_color=(0.45, 0.45, 0.45), metallic=0.0, roughness=1.0)
+    m_floor = b.add_material("floor", base_color=(0.22, 0.2, 0.18), metallic=0.0, roughness=1.0)
+    m_wood = b.add_material("wood", base_color=(0.42, 0.28, 0.16), metallic=0.0, roughness=1.0)
+    zc, zh = 0.5 * (Z0 + Z1), 0.5 * (Z1 - Z0)
+    room = Geometry()
+    room.append(g.quad((0.0, H, zc), (W, 0.0, 0.0), (0.0, 0.0, zh)))           # ceiling, -Y
+    room.append(g.quad((0.0, 0.5 * H, Z0), (W, 0.0, 0.0), (0.0, 0.5 * H, 0.0)))  # back wall, +Z
+    room.append(g.quad((0.0, 0.5 * H, Z1), (0.0, 0.5 * H, 0.0), (W, 0.0, 0.0)))  # front wall, -Z
+    room.append(g.quad((-W, 0.5 * H, zc), (0.0, 0.5 * H, 0.0), (0.0, 0.0, zh)))  # left wall, +X
+    room.append(g.quad((W, 0.5 * H, zc), (0.0, 0.0, zh), (0.0, 0.5 * H, 0.0)))   # right wall, -X
+    b.add_node("walls", mesh=b.add_mesh("walls", room.positions, room.indices, normals=room.normals,
+                                        uvs=room.uvs, material=m_wall))
+    floor = g.quad((0.0, 0.0, zc), (0.0, 0.0, zh), (W, 0.0, 0.0))                # floor, +Y
+    assert floor[1][0][1] > 0.999
+    b.add_node("floor", mesh=b.add_mesh("floor", *_pnui(floor), material=m_floor))
+    furniture = Geometry()
+    furniture.append(box_between((-1.2, 0.72, -4.9), (0.6, 0.78, -3.9)))      # table top
+    for x in (-1.1, 0.5):
+        for z in (-4.8, -4.0):
+            furniture.append(box_between((x - 0.03, 0.0, z - 0.03), (x + 0.03, 0.72, z + 0.03)))
+    furniture.append(box_between((1.6, 0.0, -6.6), (2.4, 0.8, -5.8)))         # crates
+    furniture.append(box_between((1.8, 0.8, -6.4), (2.3, 1.3, -5.9)))
+    b.add_node("furniture", mesh=b.add_mesh("furniture", furniture.positions, furniture.indices,
+                                            normals=furniture.normals, uvs=furniture.uvs, material=m_wood))
+    m_panel = b.add_material("softbox", base_color=(0.0, 0.0, 0.0), emissive=(1.0, 0.9, 0.78), emissive_strength=6.0)
+    panel = g.quad((-0.3, H - 0.02, -4.4), (1.2, 0.0, 0.0), (0.0, 0.0, 0.7))
+    assert panel[1][0][1] < -0.999, "the softbox faces down"
+    b.add_node("softbox", mesh=b.add_mesh("softbox", *_pnui(panel), material=m_panel))
+    m_strip = b.add_material("strip", base_color=(0.0, 0.0, 0.0), emissive=(0.6, 0.8, 1.0), emissive_strength=4.0)
+    strip = g.quad((-2.2, 2.2, Z0 + 0.01), (0.9, 0.0, 0.0), (0.0, 0.04, 0.0))
+    assert strip[1][0][2] > 0.999, "the strip faces into the room"
+    b.add_node("strip", mesh=b.add_mesh("strip", *_pnui(strip), material=m_strip))
+    return b.write(path)
+
+
 def main():
     written = [
         make_street(os.path.join(HERE, "street.gltf")),
@@ -1238,6 +1304,9 @@ def main():
                        anisotropy=0.9),
         # A closed fog room lit by one point light: samplers, single and multiple scattering.
         make_fog_room(os.path.join(HERE, "bench_fog_room.gltf")),
+        # Open fog grazed by a large ceiling panel: area lights close to the view rays.
+        make_panel_bench(os.path.join(HERE, "bench_panel.gltf")),
+        make_panel_room(os.path.join(HERE, "panel_room.gltf")),
         # Lit-fog showcase scenes (README gallery)
         make_god_rays(os.path.join(HERE, "god_rays.gltf")),
         make_area_hall(os.path.join(HERE, "area_hall.gltf")),

@@ -117,6 +117,33 @@ TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", 
     }
 }
 
+TEST_CASE("bdpt single scattering from large rectangles close to the view rays matches quadrature",
+          "[bdpt][oracle][area]") {
+    // tests/data/area_rectangles_close.gltf: a panel 4 cm above the top of the view and a window
+    // beside the camera. Reference per 2×2 block: the quadrature on a 6×6 grid of film positions.
+    const int W = 10, B = 2, S = 6;
+    auto scene = loadTestScene("area_rectangles_close.gltf");
+    std::vector<Vec3> ref(size_t(W / B) * (W / B));
+    for (size_t i = 0; i < ref.size(); ++i) {
+        const int bx = int(i) % (W / B), by = int(i) / (W / B);
+        double sum = 0;
+        for (int j = 0; j < S; ++j)
+            for (int k = 0; k < S; ++k)
+                sum += rectanglesCloseReference(
+                    referenceCameraDirection(bx * B + (k + 0.5) * B / S, by * B + (j + 0.5) * B / S, W, W, kYfov), 1000, 10);
+        ref[i] = Vec3(float(sum / (S * S)));
+    }
+    const std::vector<bool> skip(ref.size(), false);
+    for (ConnectMode mode : kConnectModes) {
+        BdptIntegrator bdpt = makeBdpt(1, mode);
+        auto px = estimateFilm(*scene, bdpt, W, W, 32, kBatches, 23, B);
+        std::string where;
+        double z = worstZ(px, W / B, skip, [&](int x, int y) { return ref[size_t(y) * (W / B) + x]; }, &where);
+        INFO("rectangles --connect " << connectModeName(mode) << ": worst " << where << " (z = " << z << ")");
+        CHECK(z < kZ);
+    }
+}
+
 TEST_CASE("the bdpt single-scattering oracle can fail: a wrong phase sign is detected", "[bdpt][oracle]") {
     const SingleCase sc{"single_near.gltf", Vec3(0.3f, 0.2f, -3), Vec3(0.2f), Vec3(0.05f), 0.3, false};
     auto scene = loadTestScene(sc.file);

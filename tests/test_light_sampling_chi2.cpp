@@ -168,6 +168,19 @@ SceneDescription quadDescription(const QuadSetup& q, bool doubleSided) {
 }
 
 // Direction histogram of one triangle light seen from ref; returns the run and fills checks.
+// Solid angle of the triangle abc seen from o by Girard's theorem (the angle excess),
+// independent of the renderer's Van Oosterom–Strackee formula.
+double girardSolidAngle(D3 o, D3 a, D3 b, D3 c) {
+    D3 A = dnorm(a - o), B = dnorm(b - o), C = dnorm(c - o);
+    auto angle = [](D3 p, D3 q, D3 r) {
+        D3 n1 = dnorm(dcross(p, q)), n2 = dnorm(dcross(p, r));
+        return std::acos(std::max(-1.0, std::min(1.0, ddot(n1, n2))));
+    };
+    return angle(A, B, C) + angle(B, C, A) + angle(C, A, B) - M_PI;
+}
+
+// The scene's sampleLight against an independent density: 1/Ω where the light samples by
+// solid angle (Ω within the spherical limits), else dist²/(A·|cosθ|); and against lightPdf.
 HistogramResult triangleDirectionTest(const Scene& scene, int lightIndex, Vec3 ref, uint64_t seed,
                                       SampleChecks* checks, bool expectSuccess) {
     const Light& light = scene.lights()[lightIndex];
@@ -204,10 +217,17 @@ HistogramResult triangleDirectionTest(const Scene& scene, int lightIndex, Vec3 r
         if (s.isDelta) ++checks->badDelta;
         return s.wi;
     };
+    const double omega = girardSolidAngle(o, p[0], p[1], p[2]);
+    const bool bySolidAngle = scene.emitterSampling() == EmitterSampling::SolidAngle && omega >= kMinSphericalSolidAngle &&
+                              omega <= kMaxSphericalSolidAngle;
+    const double area = 0.5 * dlen(dcross(p[1] - p[0], p[2] - p[0]));
+    const bool doubleSided = scene.material(light.mesh).doubleSided;
     auto pdfFn = [&](Vec3 w) -> double {
         std::optional<double> t = rayTriangle(o, d3(w), p[0], p[1], p[2]);
         if (!t) return 0.0;
-        return lightPdf(scene, light, ref, f3(o + d3(w) * *t), n);
+        const double cosLight = -ddot(nd, d3(w));
+        if (!doubleSided && cosLight <= 0) return 0.0;
+        return bySolidAngle ? 1.0 / omega : *t * *t / (area * std::abs(cosLight));
     };
     return sphereHistogramTest(sampleFn, pdfFn, int(opt.cosThetaEdges.size()) - 1, 24, kSamples, opt);
 }
@@ -357,7 +377,7 @@ TEST_CASE("emissive triangles become lights after the punctual ones", "[light]")
     CHECK(dist.pmf(1) / dist.pmf(2) == Approx(0.75 / 0.37).epsilon(1e-5));
 }
 
-TEST_CASE("triangle light sampling matches lightPdf", "[chi2][light]") {
+TEST_CASE("triangle light sampling matches its density, by area and by solid angle", "[chi2][light]") {
     QuadSetup q = makeQuad();
     Scene single(quadDescription(q, false));
     Scene twoSided(quadDescription(q, true));
@@ -365,8 +385,12 @@ TEST_CASE("triangle light sampling matches lightPdf", "[chi2][light]") {
     const Vec3 front = f3(o + u * 0.7 + v * 0.4 + n * 0.9);   // in front of the quad, fairly close
     const Vec3 front2 = f3(o + u * 2.5 + v * -1.0 + n * 0.6);  // in front, off to the side (oblique)
     const Vec3 behind = f3(o + u * 0.5 + v * 0.3 - n * 1.2);
+    const Vec3 grazing = f3(o + u * 1.0 + v * -0.3 + n * 0.05);  // beside the quad, 5 cm above its plane
+    const Vec3 close = f3(o + u * 0.6 + v * 0.2 + n * 0.001);   // 1 mm over triangle 0: Ω > 6.22, by area
+    const Vec3 near = f3(o + u * 0.3 + v * 0.2 + n * 0.15);     // 15 cm over it: Ω ≈ 4.5
+    const Vec3 far = f3(o + u * 0.5 + v * 0.3 + n * 80.0);      // Ω ≈ 1e-4: by area
     struct Case {
-        const Scene* scene;
+        Scene* scene;
         int light;
         Vec3 ref;
         const char* name;
@@ -376,18 +400,38 @@ TEST_CASE("triangle light sampling matches lightPdf", "[chi2][light]") {
         {&single, 2, front, "triangle 1, front"},
         {&single, 1, front2, "triangle 0, front, oblique"},
         {&twoSided, 2, behind, "triangle 1, two-sided, from behind"},
+        {&single, 1, grazing, "triangle 0, grazing"},
+        {&single, 1, close, "triangle 0, 1 mm above"},
+        {&single, 1, near, "triangle 0, 15 cm above"},
+        {&single, 2, far, "triangle 1, 80 m away"},
     };
-    const double alpha = kAlpha / 4;
+    const int nCases = int(sizeof(cases) / sizeof(cases[0]));
+    const double alpha = kAlpha / (2 * nCases);
     int k = 0;
-    for (const Case& c : cases) {
-        SampleChecks checks;
-        HistogramResult r = triangleDirectionTest(*c.scene, c.light, c.ref, 131 + k++, &checks, true);
-        checkHistogram(c.name, r, alpha);
-        checks.print(c.name);
-        checks.require();
-        CHECK(r.outside == 0);
-        CHECK(r.pdfIntegral == Approx(1.0).epsilon(kIntegralTol));
+    for (EmitterSampling mode : {EmitterSampling::Area, EmitterSampling::SolidAngle}) {
+        for (const Case& c : cases) {
+            c.scene->setEmitterSampling(mode);
+            const std::string name = std::string(c.name) + (mode == EmitterSampling::Area ? ", by area" : ", by solid angle");
+            SampleChecks checks;
+            HistogramResult r = triangleDirectionTest(*c.scene, c.light, c.ref, 131 + k++, &checks, true);
+            checkHistogram(name, r, alpha);
+            checks.print(name.c_str());
+            checks.require();
+            CHECK(r.outside == 0);
+            CHECK(r.pdfIntegral == Approx(1.0).epsilon(kIntegralTol));
+        }
     }
+    // Which construction each case took: the limits are a function of the geometry.
+    double omega = 0;
+    CHECK(samplesBySolidAngle(single, single.lights()[1], front, &omega));
+    CHECK(!samplesBySolidAngle(single, single.lights()[1], close, &omega));
+    CHECK(omega > kMaxSphericalSolidAngle);
+    CHECK(samplesBySolidAngle(single, single.lights()[1], near, &omega));
+    CHECK(!samplesBySolidAngle(single, single.lights()[2], far, &omega));
+    CHECK(omega < kMinSphericalSolidAngle);
+    CHECK(omega > 0);
+    CHECK(!samplesBySolidAngle(single, single.lights()[1], behind, &omega));
+    CHECK(omega == 0);
 }
 
 TEST_CASE("a one-sided triangle light is not sampled from behind", "[chi2][light]") {
@@ -408,6 +452,7 @@ TEST_CASE("picking a quad's triangles by power and sampling them is uniform in a
     // sampling each uniformly must give the quad's uniform-area density dist²/(A cosθ).
     QuadSetup q = makeQuad();
     Scene scene(quadDescription(q, false));
+    scene.setEmitterSampling(EmitterSampling::Area);
     const Distribution1D& dist = scene.lightDistribution();
     const double sel1 = dist.pmf(1) / (dist.pmf(1) + dist.pmf(2));
     const Vec3 ref = f3(d3(q.origin) + d3(q.u) * 0.9 + d3(q.v) * 0.2 + d3(q.n) * 1.3);
@@ -447,6 +492,47 @@ TEST_CASE("picking a quad's triangles by power and sampling them is uniform in a
     HistogramResult r =
         sphereHistogramTest(sampleFn, pdfFn, int(opt.cosThetaEdges.size()) - 1, 24, kSamples, opt);
     checkHistogram("quad: triangles picked by power", r, kAlpha);
+    CHECK(inconsistent == 0);
+    CHECK(r.outside == 0);
+    CHECK(r.pdfIntegral == Approx(1.0).epsilon(kIntegralTol));
+}
+
+TEST_CASE("picking a quad's triangles by power and sampling each by solid angle", "[chi2][light]") {
+    // The density of a direction through triangle i is P(i)/Ω_i, Ω_i by Girard's theorem.
+    QuadSetup q = makeQuad();
+    Scene scene(quadDescription(q, false));
+    const Distribution1D& dist = scene.lightDistribution();
+    const double sel1 = dist.pmf(1) / (dist.pmf(1) + dist.pmf(2));
+    const Vec3 ref = f3(d3(q.origin) + d3(q.u) * 0.9 + d3(q.v) * 0.2 + d3(q.n) * 0.3);
+    const D3 o = d3(ref), n = d3(q.n);
+    D3 c[4];
+    for (int i = 0; i < 4; ++i) c[i] = d3(q.corners[i]);
+    const double omega1 = girardSolidAngle(o, c[0], c[1], c[2]), omega2 = girardSolidAngle(o, c[0], c[2], c[3]);
+    D3 axis = dnorm((c[0] + c[1] + c[2] + c[3]) * 0.25 - o);
+    double cosMin = 1;
+    for (const D3& p : c) cosMin = std::min(cosMin, ddot(axis, dnorm(p - o)));
+    SphereHistogramOptions opt;
+    opt.seed = 161;
+    opt.axis = f3(axis);
+    opt.cosThetaEdges = coneEdges(std::max(-0.99, cosMin), 20, 0.02);
+    Sampler pick(162, 0, 0);
+    long inconsistent = 0;
+    auto sampleFn = [&](Sample2 u) -> std::optional<Vec3> {
+        int li = pick.next1D() < sel1 ? 1 : 2;
+        LightSample s;
+        if (!sampleLight(scene, scene.lights()[li], ref, u, &s)) return std::nullopt;
+        if (!close(double(s.pdf), 1.0 / (li == 1 ? omega1 : omega2), 1e-4)) ++inconsistent;
+        return s.wi;
+    };
+    auto pdfFn = [&](Vec3 w) -> double {
+        D3 wd = d3(w);
+        if (-ddot(n, wd) <= 0) return 0.0;
+        if (rayTriangle(o, wd, c[0], c[1], c[2])) return sel1 / omega1;
+        if (rayTriangle(o, wd, c[0], c[2], c[3])) return (1 - sel1) / omega2;
+        return 0.0;
+    };
+    HistogramResult r = sphereHistogramTest(sampleFn, pdfFn, int(opt.cosThetaEdges.size()) - 1, 24, kSamples, opt);
+    checkHistogram("quad: triangles by power, then solid angle", r, kAlpha);
     CHECK(inconsistent == 0);
     CHECK(r.outside == 0);
     CHECK(r.pdfIntegral == Approx(1.0).epsilon(kIntegralTol));

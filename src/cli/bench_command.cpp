@@ -78,6 +78,7 @@ struct BenchChoice {
     SamplerKind sampler;
     std::string name;
     std::string allocation;  // bdpt@NAME: bdpt:mis with one of auto's candidate allocations
+    EmitterSampling emitters = EmitterSampling::SolidAngle;  // METHOD:area: emissive triangles by area
 };
 
 std::unique_ptr<Integrator> efficiencyAware(int maxDepth) {
@@ -194,7 +195,9 @@ std::string benchFooter() {
     }
     return text +
            "Every method renders with the sobol sampler; METHOD:independent renders it with independent\n"
-           "samples instead (e.g. --methods pt:mis,pt:mis:independent).\n"
+           "samples instead (e.g. --methods pt:mis,pt:mis:independent). METHOD:area samples light\n"
+           "points on emissive triangles by area, without distances by their solid angle (as\n"
+           "--emitter-sampling area; e.g. --methods pt:mis,pt:mis:area).\n"
            "\nCtrl-C stops after the current pass; no results.csv is written (exit code 130).";
 }
 
@@ -207,6 +210,13 @@ const BenchMethod* namedMethod(const std::string& what, const std::string& name)
 // A method as --methods names it: METHOD, or METHOD:SAMPLER (sobol, the default, or
 // independent), e.g. pt:mis:independent.
 BenchChoice namedChoice(const std::string& what, const std::string& item) {
+    const std::string areaSuffix = ":area";
+    if (item.size() > areaSuffix.size() && item.compare(item.size() - areaSuffix.size(), areaSuffix.size(), areaSuffix) == 0) {
+        BenchChoice c = namedChoice(what, item.substr(0, item.size() - areaSuffix.size()));
+        c.emitters = EmitterSampling::Area;
+        c.name += areaSuffix;
+        return c;
+    }
     if (item.rfind("bdpt@", 0) == 0) {
         BdptAllocation allocation;
         if (!allocationNamed(item.substr(5), ConnectMode::Mis, &allocation))
@@ -607,6 +617,7 @@ int runBench(const std::vector<std::string>& argv) {
             options.seed = kReferenceSeed;
             options.threads = a.threads;
             options.progress = ::isatty(2) != 0;
+            scene.setEmitterSampling(EmitterSampling::SolidAngle);
             Film film(res.width, res.height);
             RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
             if (interrupted()) return kExitInterrupted;
@@ -651,6 +662,7 @@ int runBench(const std::vector<std::string>& argv) {
             options.seed = a.seed;
             options.sampler = choice.sampler;
             options.threads = a.threads;
+            scene.setEmitterSampling(choice.emitters);
             Film film(res.width, res.height);
             const double cpuBefore = processCpuSeconds();
             RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);

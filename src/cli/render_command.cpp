@@ -43,6 +43,7 @@ struct RenderArgs {
     int maxDepth = -1;
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
+    EmitterSampling emitters = EmitterSampling::SolidAngle;
     MisHeuristic heuristic = MisHeuristic::Power;
     std::string strategyDir;
     Resolution res;  // width 0: from the camera
@@ -122,6 +123,11 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   else if (v == "mis") a.connect = ConnectMode::Mis;
                   else throw UsageError("--connect: unknown mode '" + v + "' (density, equiangular, product or mis)");
               });
+    addOption(app, "--emitter-sampling", "HOW",
+              "light points on emissive triangles: solid-angle (uniform in the solid angle they subtend, "
+              "and with --connect mis distances sampled by that solid angle in fog; the default) or area "
+              "(uniform by area, the light point first)",
+              [&](const std::string& v) { a.emitters = parseEmitterSampling("--emitter-sampling", v); });
     addOption(app, "--res", "WxH",
               "image size (default 640 wide, height from the camera's aspect ratio, 640x480 without one)",
               [&](const std::string& v) { a.res = parseResolution("--res", v); });
@@ -264,6 +270,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
             {"--integrator", a.integrator},
             {"--allocation", a.allocation},
             {"--connect", connectName(a.connect)},
+            {"--emitter-sampling", emitterSamplingName(a.emitters)},
             {"--max-depth", std::to_string(a.maxDepth)},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
@@ -329,6 +336,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         SceneDescription desc = loadSceneDescription(a.scene);
         res = imageResolution(desc.camera, a.res);
         sceneStorage.emplace(std::move(desc));
+        sceneStorage->setEmitterSampling(a.emitters);
     } catch (...) {
         setupError = std::current_exception();
     }

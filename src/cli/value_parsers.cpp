@@ -90,4 +90,12 @@ SamplerKind parseSamplerKind(const std::string& what, const std::string& text) {
 
 const char* samplerName(SamplerKind kind) { return kind == SamplerKind::Sobol ? "sobol" : "independent"; }
 
+EmitterSampling parseEmitterSampling(const std::string& what, const std::string& text) {
+    if (text == "solid-angle") return EmitterSampling::SolidAngle;
+    if (text == "area") return EmitterSampling::Area;
+    throw UsageError(what + ": unknown emitter sampling '" + text + "' (solid-angle or area)");
+}
+
+const char* emitterSamplingName(EmitterSampling e) { return e == EmitterSampling::Area ? "area" : "solid-angle"; }
+
 }  // namespace brume::cli

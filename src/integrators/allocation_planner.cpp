@@ -141,8 +141,8 @@ void AllocationPlanner::decide() {
         const double m = moments_[j] * scale;
         Estimate& e = estimates_[j];
         // (Kept above a hundredth of the pilot's where noise would make it negative.)
-        // The path tracer: as "pt+ea" (the same strategies), or in coloured media its own
-        // probe where that saw as much light as the pilot (header).
+        // The path tracer: as "pt+ea" (the same strategies), or in coloured media and with
+        // strategies of its own its probe, where that saw as much light as the pilot (header).
         double difference = m - pilotMoment;
         if (candidates_[j].pathTracer) {
             BdptAllocation same = candidates_[j];
@@ -150,7 +150,7 @@ void AllocationPlanner::decide() {
             for (size_t k = 0; k < candidates_.size(); ++k)
                 if (candidates_[k] == same) difference = moments_[k] * scale - pilotMoment;
             const bool probeSawAll = moments_[kPathTracerProbeMean] * scale >= 0.9 * pilotMean;
-            if (channels_ > 1 && std::isfinite(difference) && probeSawAll)
+            if (probe_ && std::isfinite(difference) && probeSawAll)
                 difference = moments_[kPathTracerProbe] * scale - pilotSecond;
         }
         e.variance = std::isfinite(difference) ? std::max(pilotVariance + difference, 1e-2 * pilotVariance)

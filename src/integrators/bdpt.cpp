@@ -44,7 +44,11 @@ BdptIntegrator::~BdptIntegrator() = default;
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     if (!planner_) return;
-    planner_->setChannels(scene.mediumChannels());
+    // The path tracer samples distances by an emitter's solid angle, which the bidirectional
+    // tracer does not: only its own samples show what that is worth.
+    const bool ownStrategies = options_.connect == ConnectMode::Mis && scene.hasMedia() && scene.hasTriangleLights() &&
+                               scene.emitterSampling() == EmitterSampling::SolidAngle;
+    planner_->setPathTracerProbe(scene.mediumChannels() > 1 || ownStrategies);
     planner_->allocationFor(pass).applyTo(options_);
     collecting_ = planner_->collects(pass);
 }
@@ -153,9 +157,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
                           ox, oy, stats.sums);
-        // In coloured media, the path tracer's probe: one sample of its own, kept out of the
-        // image (allocation_planner.h).
-        const Spectrum probe = channels > 1 ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);
+        // In coloured media and where the path tracer has strategies of its own, its probe:
+        // one sample of its own, kept out of the image (allocation_planner.h).
+        const Spectrum probe = planner_->pathTracerProbe() ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);
         const float* w = planner_->weights().at(ox, oy);
         if (isFinite(probe))
             for (int ch = 0; ch < 3; ++ch) {

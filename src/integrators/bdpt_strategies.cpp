@@ -223,13 +223,21 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
                                      c.sampler.get1D(dims + dim::kEquiAngular), swap, &pea))
             continue;
         const PathVertex& z = c.camera[t - 1];
+        // The equi-angular variant's light point is its anchor (by area, drawn before z(t−1)
+        // moved); the free-flight variant samples the light as the path tracer does (by solid
+        // angle on a triangle). The weights take y0's density as the light subpath's (area)
+        // in both: a deterministic function of the path, so they still sum to one.
         LightSample ls;
-        if (!sampleLight(scene, l, z.p, uLight, &ls) || isBlack(ls.Le)) continue;
+        const bool sampled = ea ? sampleLightByArea(scene, l, z.p, uLight, &ls) : sampleLight(scene, l, z.p, uLight, &ls);
+        if (!sampled || isBlack(ls.Le)) continue;
+        // The light the point landed on (the other half of a rectangle, maybe): y0's light.
+        const int yi = landedLight(li, ls);
+        const Light& yl = scene.lights()[size_t(yi)];
         Spectrum f = scatter(scene, z, z.wo, ls.wi, TransportMode::Radiance);
         if (isBlack(f)) continue;
         // Stop just short of an emitting surface so it does not shadow itself.
         const bool surfaceLight = l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
-        Connection conn = connectPoints(scene, leaving(z.p, surfaceNormal(z), ls.wi, ls.dist, surfaceLight, lightTarget(scene, li)),
+        Connection conn = connectPoints(scene, leaving(z.p, surfaceNormal(z), ls.wi, ls.dist, surfaceLight, lightTarget(scene, yi)),
                                         mediaTowards(scene, z, ls.wi), z.isMedium(), false, c.stats);
         if (isBlack(conn.T)) continue;
         Spectrum contrib = z.beta * f * ls.Le * conn.T / (pick * ls.pdf);
@@ -239,17 +247,17 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             // The sampled light vertex y0, with the light subpath's densities. A directional
             // light's vertex sits up its beam (its direction is all the weights read).
             Vec3 n(0.0f);
-            if (l.kind == LightKind::Sphere) n = normalize(ls.p - l.position);
-            if (l.kind == LightKind::Triangle) {
-                const Mesh& mesh = scene.mesh(l.mesh);
-                const uint32_t* idx = &mesh.indices[3 * l.triangle];
+            if (yl.kind == LightKind::Sphere) n = normalize(ls.p - yl.position);
+            if (yl.kind == LightKind::Triangle) {
+                const Mesh& mesh = scene.mesh(yl.mesh);
+                const uint32_t* idx = &mesh.indices[3 * yl.triangle];
                 n = normalize(cross(mesh.positions[idx[1]] - mesh.positions[idx[0]], mesh.positions[idx[2]] - mesh.positions[idx[0]]));
                 if (dot(n, -ls.wi) < 0) n = -n;
             }
             Vec3 p = std::isinf(ls.dist) ? z.p + ls.wi * std::max(1.0f, 2.0f * scene.boundsRadius()) : ls.p;
             float pos, dir;
-            emissionPdf(scene, l, p, n, -ls.wi, &pos, &dir);
-            PathVertex y0 = makeLightVertex(scene, li, pick, p, n, pos);
+            emissionPdf(scene, yl, p, n, -ls.wi, &pos, &dir);
+            PathVertex y0 = makeLightVertex(scene, yi, scene.lightDistribution().pmf(yi), p, n, pos);
             const StrategyJoin join = joinOf(conn, ea, pea);
             w = weigh(c, &y0, 1, t, join);
             record(c, &y0, 1, t, join, contrib);

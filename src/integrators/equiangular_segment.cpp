@@ -89,8 +89,7 @@ bool clipToSpotCone(const Light& spot, Vec3 o, Vec3 d, float* t0, float* t1) {
     return *t0 < *t1;
 }
 
-bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
-                        EquiAngular* out) {
+bool clipToLight(const Scene& scene, const Light& light, const MediumSegment& seg, float* t0, float* t1) {
     float a = 0, b = seg.tEnd;
     if (light.kind == LightKind::Spot && !clipToSpotCone(light, seg.o, seg.d, &a, &b)) return false;
     if (light.kind == LightKind::Triangle && !scene.material(light.mesh).doubleSided) {
@@ -108,7 +107,15 @@ bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, con
             b = std::min(b, -h / dn);
         }
     }
-    if (!(a < b)) return false;
+    *t0 = a;
+    *t1 = b;
+    return a < b;
+}
+
+bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
+                        EquiAngular* out) {
+    float a, b;
+    if (!clipToLight(scene, light, seg, &a, &b)) return false;
     *out = makeEquiAngular(seg.o, seg.d, anchor, a, b, g);
     return true;
 }

@@ -5,6 +5,7 @@
 #include "brume/integrators/light_numbers.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/sample_dimensions.h"
+#include "brume/integrators/solid_angle_segment.h"
 #include "brume/integrators/visibility.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/bsdf.h"
@@ -13,27 +14,48 @@
 namespace brume {
 
 // Strategies for light reaching a path through a point on a medium segment. A light path
-// x(t) → y is a pair (t on the segment, y on the light); three strategies can make it:
+// x(t) → y is a pair (t on the segment, y on the light); four strategies can make it:
 //   A  free-flight t, then a light sample y from x(t):      pA = p_ff(t) · P(light) · p_L(y|x)
 //   B  free-flight t, then phase sampling hits y:           pB = p_ff(t) · p_phase(ω)
-//   C  light anchor first, t equi-angular towards it, y:    pC = P(light) · p_L(y|x) · p_ea(t)
-// All in the same measure (dt × solid angle at x(t)); p_L(y|x) is the same solid-angle
-// density in A and C (uniform area on a triangle, whose point doubles as C's anchor; the
-// subtended cone of a sphere, whose centre is C's anchor; a delta for point and spot lights,
-// for which B is impossible). Each estimate is weighted by the power heuristic
-// p_self² / (pA² + pB² + pC²) over the strategies the mode turns on. At surfaces only A and B.
+//   C  a light point first, t equi-angular towards it:      pC = P(light) · p_area(y|x) · p_ea(t|y)
+//   D  t by the light's solid angle, then y as in A:        pD = P(light) · p_Ω(t) · p_L(y|x)
+// All in the same measure (dt × solid angle at x(t)). p_L is sampleLight's solid-angle
+// density: uniform in the solid angle an emissive triangle subtends (by area outside the
+// spherical limits, or with --emitter-sampling area), the subtended cone of a sphere, a delta
+// for point and spot lights (for which B is impossible). C's light point is drawn before x(t)
+// exists, so by area on a triangle (p_area, in solid angle at x(t)); a sphere's anchor is its
+// centre and C then samples y as A does. D (solid_angle_segment.h) is for emissive triangles
+// in mis mode when the scene samples emitters by solid angle: close to a large emitter, where
+// the 1/r² of C's random light point is nearly singular, Ω(x) is smooth. Each estimate is
+// weighted by the power heuristic p_self² / Σ p² over the strategies the mode turns on
+// (mis: all four). At surfaces only A and B.
 namespace {
-
-float powerWeight(float self, float other1, float other2) {
-    float s = self * self, sum = s + other1 * other1 + other2 * other2;
-    return sum > 0 ? s / sum : 0.0f;
-}
 
 // Where a medium vertex came from: needed to weigh strategies that could have made it.
 struct MediumOrigin {
     MediumSegment seg;
     float t = 0;
     float pFreeFlight = 0;  // p_ff(t) within the segment
+};
+
+// The solid-angle distance tables (strategy D) of one medium piece, per light: strategies C,
+// D and A (and B at the next hit) on the same piece ask for the same light's table.
+struct SolidAngleTables {
+    static constexpr int kSlots = 4;
+    int light[kSlots];
+    bool valid[kSlots];
+    SolidAngleDistance table[kSlots];
+    int count = 0, next = 0;
+
+    const SolidAngleDistance* get(const Scene& scene, int li, const MediumSegment& seg) {
+        for (int i = 0; i < count; ++i)
+            if (light[i] == li) return valid[i] ? &table[i] : nullptr;
+        const int i = count < kSlots ? count++ : (next++ % kSlots);
+        light[i] = li;
+        valid[i] = solidAngleDistanceOn(scene, scene.lights()[size_t(li)], seg, &table[i]);
+        return valid[i] ? &table[i] : nullptr;
+    }
+    void clear() { count = next = 0; }
 };
 
 // A scattering vertex as next-event estimation sees it.
@@ -55,15 +77,6 @@ struct Vertex {
     }
 };
 
-// Equi-angular (or product) density of t on `origin`'s segment for a light whose sampled point is y.
-float equiAngularDensity(const Scene& scene, const Light& light, Vec3 y, const MediumOrigin& origin, ConnectMode mode) {
-    Vec3 anchor = light.kind == LightKind::Triangle ? y : light.position;
-    EquiAngular ea;
-    if (!equiAngularTowards(scene, light, anchor, origin.seg, connectAnisotropy(mode, origin.seg.medium->g), &ea))
-        return 0.0f;
-    return equiAngularPdf(ea, origin.t);
-}
-
 // Channel probabilities in proportion to the throughput β (uniform if β is black).
 Spectrum throughputChannels(Spectrum beta) {
     float sum = beta.x + beta.y + beta.z;
@@ -72,10 +85,64 @@ Spectrum throughputChannels(Spectrum beta) {
 
 bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.kind == LightKind::Directional; }
 bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
+bool usesSolidAngle(const Scene& scene, ConnectMode m, const Light& l) {
+    return m == ConnectMode::Mis && l.kind == LightKind::Triangle && scene.emitterSampling() == EmitterSampling::SolidAngle;
+}
+
+// A light path through a medium vertex: the light, the point y on it, and the densities the
+// caller already knows (a negative c or d: not known, computed here).
+struct MediumPath {
+    const Light* light;
+    float pick;     // P(light)
+    Vec3 y;         // the light point (position of a point or spot light)
+    int yLight;     // the light y lies on (the picked one, or the other half of its rectangle)
+    float pL;       // p_L(y|x)
+    bool delta;     // point or spot light
+    float phase;    // p_phase(ω) of the direction to y
+    float c = -1, d = -1;
+};
+
+struct StrategyDensities {
+    float a = 0, b = 0, c = 0, d = 0;
+};
+
+StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const MediumPath& path, ConnectMode mode,
+                               SolidAngleTables& tables) {
+    const Light& light = *path.light;
+    StrategyDensities p;
+    if (usesDensity(mode, light)) p.a = o.pFreeFlight * path.pick * path.pL;
+    if (!path.delta) p.b = o.pFreeFlight * path.phase;
+    if (path.c >= 0) {
+        p.c = path.c;
+    } else if (usesEquiAngular(mode, light)) {
+        // C draws its light point on the light it picked: y's own.
+        const Light& yl = scene.lights()[size_t(path.yLight)];
+        const Vec3 x = o.seg.o + o.seg.d * o.t;
+        const float pArea = yl.kind == LightKind::Triangle ? lightPdfByArea(scene, yl, x, path.y, Vec3(0.0f)) : path.pL;
+        const float pick = yl.kind == LightKind::Triangle ? scene.lightDistribution().pmf(path.yLight) : path.pick;
+        EquiAngular ea;
+        const Vec3 anchor = yl.kind == LightKind::Triangle ? path.y : yl.position;
+        if (pArea > 0 && equiAngularTowards(scene, yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
+            p.c = pick * pArea * equiAngularPdf(ea, o.t);
+    }
+    if (path.d >= 0) {
+        p.d = path.d;
+    } else if (usesSolidAngle(scene, mode, light)) {
+        if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
+            p.d = path.pick * solidAngleDistancePdf(*sd, o.t) * path.pL;
+    }
+    return p;
+}
+
+// The power heuristic for the strategy with density `self` among all of p.
+float powerWeight(float self, const StrategyDensities& p) {
+    const float sum = p.a * p.a + p.b * p.b + p.c * p.c + p.d * p.d;
+    return sum > 0 ? self * self / sum : 0.0f;
+}
 
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
-                      const Sampler& sampler, uint32_t dims, PathStats& stats) {
+                      const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, 0, &pick);
@@ -88,25 +155,33 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     if (isBlack(f)) return Spectrum(0.0f);
     float w;
     if (v.origin) {
-        float pff = v.origin->pFreeFlight;
-        float pA = pff * pick * ls.pdf;
-        float pB = ls.isDelta ? 0.0f : pff * scatterPdf;
-        float pC = usesEquiAngular(mode, light) ? pick * ls.pdf * equiAngularDensity(scene, light, ls.p, *v.origin, mode) : 0.0f;
-        w = powerWeight(pA, pB, pC);
+        const StrategyDensities p = densitiesOf(
+            scene, *v.origin, MediumPath{&light, pick, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf}, mode, tables);
+        w = powerWeight(p.a, p);
     } else {
         w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
     }
     if (w == 0) return Spectrum(0.0f);
-    WalkSegment seg = leaving(v.p, v.bsdf ? v.ng : Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, li));
+    WalkSegment seg = leaving(v.p, v.bsdf ? v.ng : Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, landedLight(li, ls)));
     Spectrum T = transmittanceAlong(scene, seg, media, stats);
     return f * ls.Le * T * (w / (pick * ls.pdf));
+}
+
+// The in-scattered estimate at x(t) on seg from a light sample, weighted w / p_self:
+// T(0, t)·σs(x)·phase·Le·T(x, y). `tr` is the transit over [0, t].
+Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumTransit& tr, Vec3 x, const LightSample& ls,
+                     int li, float phase, float weightOverPdf, const MediumStack& media, PathStats& stats) {
+    Spectrum T = transmittanceAlong(
+        scene, leaving(x, Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, landedLight(li, ls))), media, stats);
+    if (isBlack(T)) return T;
+    return tr.T * seg.medium->sigmaSAt(x) * ls.Le * T * (phase * weightOverPdf);
 }
 
 // Strategy C: a light and its anchor first, then t equi-angularly on the segment, then the
 // connection. Returns the estimate to be multiplied by the throughput at the segment start.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                           PathStats& stats) {
+                           SolidAngleTables& tables, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -125,25 +200,56 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float pea = equiAngularPdf(ea, origin.t);
     if (!(pea > 0) || !std::isfinite(pea)) return Spectrum(0.0f);
     Vec3 x = seg.o + seg.d * origin.t;
-    // A triangle's light sample from the same numbers lands exactly on the anchor.
+    // A triangle's light point by area from the same numbers lands exactly on the anchor.
     LightSample ls;
-    if (!sampleLight(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : lightPointNumbers(light, sampler, dims + dim::kLightPoint, repeat),
-                     &ls) || isBlack(ls.Le))
+    if (!sampleLightByArea(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : lightPointNumbers(light, sampler, dims + dim::kLightPoint, repeat),
+                           &ls) || isBlack(ls.Le))
         return Spectrum(0.0f);
     const Medium& m = *seg.medium;
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
-    float pC = pick * ls.pdf * pea;
-    float pA = mode == ConnectMode::Mis ? origin.pFreeFlight * pick * ls.pdf : 0.0f;
-    float pB = ls.isDelta ? 0.0f : origin.pFreeFlight * phase;
-    float w = powerWeight(pC, pA, pB);
+    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, phase};
+    path.c = pick * ls.pdf * pea;
+    if (light.kind == LightKind::Triangle) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
+    if (mode != ConnectMode::Mis) path.d = 0;
+    StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
+    if (mode != ConnectMode::Mis) p.a = 0;  // equiangular, product: C replaces A
+    float w = powerWeight(p.c, p);
     if (w == 0) return Spectrum(0.0f);
-    Spectrum T = transmittanceAlong(scene, leaving(x, Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, li)),
-                                    media, stats);
-    if (isBlack(T)) return T;
-    return tr.T * m.sigmaSAt(x) * ls.Le * T * (phase * w / pC);
+    return inScattered(scene, seg, tr, x, ls, li, phase, w / p.c, media, stats);
+}
+
+// Strategy D: t in proportion to the solid angle of an emissive triangle, then a light point
+// from x(t) as in A (uniform in that solid angle).
+Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media, ConnectMode mode,
+                          Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
+                          SolidAngleTables& tables, PathStats& stats) {
+    if (scene.lightDistribution().empty()) return Spectrum(0.0f);
+    float pick;
+    int li = pickLight(scene, sampler, dims, repeat, &pick);
+    const Light& light = scene.lights()[li];
+    if (!usesSolidAngle(scene, mode, light)) return Spectrum(0.0f);
+    const SolidAngleDistance* sd = tables.get(scene, li, seg);
+    if (!sd) return Spectrum(0.0f);
+    MediumOrigin origin{seg, sampleSolidAngleDistance(*sd, sampler.get1D(dims + dim::kEquiAngular, repeat)), 0.0f};
+    const float pOmega = solidAngleDistancePdf(*sd, origin.t);
+    if (!(pOmega > 0) || !std::isfinite(pOmega)) return Spectrum(0.0f);
+    const Vec3 x = seg.o + seg.d * origin.t;
+    LightSample ls;
+    if (!sampleLight(scene, light, x, sampler.get2D(dims + dim::kLightPoint, repeat), &ls) || isBlack(ls.Le))
+        return Spectrum(0.0f);
+    const Medium& m = *seg.medium;
+    const float phase = hgPhase(dot(seg.d, ls.wi), m.g);
+    MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
+    origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));
+    MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, phase};
+    path.d = pick * pOmega * ls.pdf;
+    const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
+    const float w = powerWeight(p.d, p);
+    if (w == 0) return Spectrum(0.0f);
+    return inScattered(scene, seg, tr, x, ls, li, phase, w / p.d, media, stats);
 }
 
 }  // namespace
@@ -163,6 +269,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     Vec3 prevP = ray.o;
     MediumOrigin prevOrigin;       // valid when the last vertex was in a medium
     bool prevInMedium = false;
+    SolidAngleTables tables;       // of the piece being walked; prevTables: of prevOrigin's piece
+    SolidAngleTables prevTables;
 
     for (int guard = 0; guard < 100000; ++guard) {
         // The ray leaves vertex `depth`; its pieces between invisible boundaries are walked
@@ -180,11 +288,15 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 break;
             }
             MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
+            tables.clear();
             // In a coloured medium the channel that drives the distance is drawn in proportion
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
-                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, stats);
+                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables, stats);
+            if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights())
+                L += beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler, dim::solidAngleSegment(depth),
+                                             repeat, tables, stats);
 
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
             // over the channels.
@@ -208,7 +320,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.p = prevOrigin.seg.o + prevOrigin.seg.d * prevOrigin.t;
             v.wo = -ray.d;
             v.origin = &prevOrigin;
-            if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), stats);
+            if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+            if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
             prevPdf = hgPhase(dot(ray.d, wi), m->g);
             prevP = v.p;
@@ -230,12 +343,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                     float pick = scene.lightDistribution().pmf(li);
                     float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
                     if (prevInMedium) {
-                        float pB = prevOrigin.pFreeFlight * prevPdf;
-                        float pA = usesDensity(mode, light) ? prevOrigin.pFreeFlight * pick * pL : 0.0f;
-                        float pC = usesEquiAngular(mode, light)
-                                       ? pick * pL * equiAngularDensity(scene, light, hit.p, prevOrigin, mode)
-                                       : 0.0f;
-                        w = powerWeight(pB, pA, pC);
+                        const StrategyDensities p = densitiesOf(
+                            scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf}, mode, prevTables);
+                        w = powerWeight(p.b, p);
                     } else {
                         w = powerHeuristic(prevPdf, pick * pL);
                     }
@@ -253,7 +363,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.bsdf = &bsdf;
             v.ng = hit.ng;
             if (nee && !bsdf.isSpecular())
-                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), stats);
+                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
 
             BsdfSample bs;
             if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) break;

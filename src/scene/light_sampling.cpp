@@ -3,6 +3,8 @@
 #include "brume/math/frame.h"
 #include "brume/scene/scene.h"
 #include "brume/scene/sphere_intersect.h"
+#include "brume/sampling/spherical_rectangle.h"
+#include "brume/sampling/spherical_triangle.h"
 #include "brume/sampling/warp.h"
 
 namespace brume {
@@ -32,7 +34,156 @@ float sphereConeOneMinusCos(float r, float dc) {
     return s2 / (1.0f + std::sqrt(std::max(0.0f, 1.0f - s2)));
 }
 
+// The light sample at point p of the triangle (barycentrics b0, b1), reached along unit wi
+// from ref at distance dist: its emitted radiance (emissive texture at p's uv).
+void finishTriangleSample(const Scene& scene, const Light& light, const TriangleGeometry& g, Vec3 p, float b0,
+                          float b1, Vec3 wi, float dist, LightSample* out) {
+    out->wi = wi;
+    out->p = p;
+    out->dist = dist;
+    out->light = scene.triangleLight(light.mesh, light.triangle);
+    SurfaceHit hit;
+    hit.mesh = light.mesh;
+    hit.triangle = light.triangle;
+    hit.p = p;
+    hit.ng = hit.ns = g.n;
+    const Mesh& mesh = scene.mesh(light.mesh);
+    if (!mesh.uvs.empty()) {
+        const uint32_t* idx = &mesh.indices[3 * light.triangle];
+        const float b2 = 1.0f - b0 - b1;
+        hit.u = mesh.uvs[2 * idx[0]] * b0 + mesh.uvs[2 * idx[1]] * b1 + mesh.uvs[2 * idx[2]] * b2;
+        hit.v = mesh.uvs[2 * idx[0] + 1] * b0 + mesh.uvs[2 * idx[1] + 1] * b1 + mesh.uvs[2 * idx[2] + 1] * b2;
+    }
+    out->Le = scene.emission(hit, -wi);
+}
+
+// A point on an emissive triangle seen from ref: uniform in the subtended solid angle
+// (density 1/Ω) or uniform by area (density 1/A turned into dist²/(A·|cosθ_light|)).
+// The rectangle of a triangle light and its partner: corner s (the vertex of the lower-numbered
+// half that the other lacks) and the perpendicular edges from it (scene.cpp, pairRectangles).
+void rectangleOf(const Scene& scene, const Light& light, Vec3* s, Vec3* ex, Vec3* ey) {
+    const Mesh& mesh = scene.mesh(light.mesh);
+    const int first = std::min(light.triangle, light.partner), second = std::max(light.triangle, light.partner);
+    const uint32_t* i1 = &mesh.indices[3 * first];
+    const uint32_t* i2 = &mesh.indices[3 * second];
+    int lone = 0;
+    for (int k = 0; k < 3; ++k)
+        if (i1[k] != i2[0] && i1[k] != i2[1] && i1[k] != i2[2]) lone = k;
+    *s = mesh.positions[i1[lone]];
+    *ex = mesh.positions[i1[(lone + 1) % 3]] - *s;
+    *ey = mesh.positions[i1[(lone + 2) % 3]] - *s;
+}
+
+// The barycentrics (b0, b1) of p, on the triangle's plane; true if p lies in the triangle.
+bool barycentricInside(const TriangleGeometry& g, Vec3 p, float* b0, float* b1) {
+    const float inv = 1.0f / (2.0f * g.area);
+    *b0 = dot(cross(g.p1 - p, g.p2 - p), g.n) * inv;
+    *b1 = dot(cross(g.p2 - p, g.p0 - p), g.n) * inv;
+    const float eps = -1e-5f;
+    return *b0 >= eps && *b1 >= eps && 1.0f - *b0 - *b1 >= eps;
+}
+
+// P(rectangle)/(P(light)·Ω): the solid-angle density of a rectangle's point per pick of the half `light`.
+float rectanglePdf(const Scene& scene, const Light& light, double omega) {
+    const Distribution1D& d = scene.lightDistribution();
+    const int li = scene.triangleLight(light.mesh, light.triangle), pl = scene.triangleLight(light.mesh, light.partner);
+    const double self = d.pmf(li);
+    if (!(self > 0)) return 0.0f;
+    return float((self + double(d.pmf(pl))) / (self * omega));
+}
+
+// omega > 0: by solid angle, the triangle (or its rectangle) subtending omega at ref; 0: by area.
+bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u, double omega, LightSample* out) {
+    TriangleGeometry g = triangleOf(scene, light);
+    if (!(g.area > 0)) return false;
+    const bool doubleSided = scene.material(light.mesh).doubleSided;
+    if (omega > 0 && light.partner >= 0) {
+        // The whole rectangle by solid angle; the half the point lies on gives its radiance.
+        Vec3 s, ex, ey;
+        rectangleOf(scene, light, &s, &ex, &ey);
+        SphericalRectangle rect;
+        if (!makeSphericalRectangle(ref, s, ex, ey, &rect)) return false;
+        const Vec3 p = sampleSphericalRectangle(rect, u);
+        Light half = light;
+        TriangleGeometry h = g;
+        float b0, b1;
+        if (!barycentricInside(g, p, &b0, &b1)) {
+            half.triangle = light.partner;
+            half.partner = light.triangle;
+            h = triangleOf(scene, half);
+            barycentricInside(h, p, &b0, &b1);
+        }
+        const Vec3 d = p - ref;
+        const float dist = length(d);
+        if (!(dist > 0)) return false;
+        const Vec3 wi = d / dist;
+        const float cosLight = dot(h.n, -wi);
+        if (cosLight == 0 || (!doubleSided && cosLight < 0)) return false;
+        out->pdf = rectanglePdf(scene, light, omega);
+        finishTriangleSample(scene, half, h, p, std::max(0.0f, b0), std::max(0.0f, b1), wi, dist, out);
+        return out->pdf > 0 && std::isfinite(out->pdf);
+    }
+    if (omega > 0) {
+        Vec3 wi;
+        double arvoOmega;
+        if (!sampleSphericalTriangle(ref, g.p0, g.p1, g.p2, u, &wi, &arvoOmega)) return false;
+        // Where wi meets the triangle's plane: n·(ref + wi·dist − p0) = 0.
+        const float cosLight = dot(g.n, -wi);
+        if (cosLight == 0 || (!doubleSided && cosLight < 0)) return false;
+        const float dist = dot(g.n, g.p0 - ref) / dot(g.n, wi);
+        if (!(dist > 0) || !std::isfinite(dist)) return false;
+        const Vec3 p = ref + wi * dist;
+        // Barycentrics of p: areas of the sub-triangles against the normal.
+        const float inv = 1.0f / (2.0f * g.area);
+        const float b0 = dot(cross(g.p1 - p, g.p2 - p), g.n) * inv;
+        const float b1 = dot(cross(g.p2 - p, g.p0 - p), g.n) * inv;
+        out->pdf = float(1.0 / omega);
+        finishTriangleSample(scene, light, g, p, std::max(0.0f, b0), std::max(0.0f, b1), wi, dist, out);
+        return out->pdf > 0 && std::isfinite(out->pdf);
+    }
+    Sample2 b = sampleUniformTriangle(u);
+    float b0 = b.u, b1 = b.v, b2 = 1.0f - b0 - b1;
+    Vec3 p = g.p0 * b0 + g.p1 * b1 + g.p2 * b2;
+    Vec3 d = p - ref;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0)) return false;
+    float dist = std::sqrt(dist2);
+    Vec3 wi = d / dist;
+    float cosLight = dot(g.n, -wi);
+    if (cosLight == 0 || (!doubleSided && cosLight < 0)) return false;
+    // Area density 1/A becomes solid-angle density dist²/(A·|cosθ_light|).
+    out->pdf = dist2 / (g.area * std::abs(cosLight));
+    finishTriangleSample(scene, light, g, p, b0, b1, wi, dist, out);
+    return out->pdf > 0 && std::isfinite(out->pdf);
+}
+
+float trianglePdf(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, bool bySolidAngle, double omega) {
+    TriangleGeometry g = triangleOf(scene, light);
+    Vec3 d = p - ref;
+    float dist2 = dot(d, d);
+    float cosLight = -dot(g.n, d) / std::sqrt(dist2);  // dot(n, −wi), as in sampleLight
+    const Material& m = scene.material(light.mesh);
+    if (!(g.area > 0) || cosLight == 0 || (!m.doubleSided && cosLight < 0)) return 0.0f;
+    if (bySolidAngle) return light.partner >= 0 ? rectanglePdf(scene, light, omega) : float(1.0 / omega);
+    return dist2 / (g.area * std::abs(cosLight));
+}
+
 }  // namespace
+
+bool samplesBySolidAngle(const Scene& scene, const Light& light, Vec3 ref, double* omega) {
+    if (light.kind != LightKind::Triangle || scene.emitterSampling() != EmitterSampling::SolidAngle) return false;
+    TriangleGeometry g = triangleOf(scene, light);
+    double o = triangleSolidAngleSigned(ref, g.p0, g.p1, g.p2);
+    if (light.partner >= 0) {
+        Light half = light;
+        half.triangle = light.partner;
+        const TriangleGeometry h = triangleOf(scene, half);
+        o += triangleSolidAngleSigned(ref, h.p0, h.p1, h.p2);
+    }
+    o = scene.material(light.mesh).doubleSided ? std::abs(o) : std::max(0.0, o);
+    if (omega) *omega = o;
+    return o >= kMinSphericalSolidAngle && o <= kMaxSphericalSolidAngle;
+}
 
 bool sampleLight(const Scene& scene, const Light& light, const Vec3& refIn, Sample2 u, LightSample* out) {
     const Vec3 ref = loadVec3(refIn);  // just written by the caller, float by float
@@ -83,37 +234,9 @@ bool sampleLight(const Scene& scene, const Light& light, const Vec3& refIn, Samp
         return true;
     }
     case LightKind::Triangle: {
-        TriangleGeometry g = triangleOf(scene, light);
-        if (!(g.area > 0)) return false;
-        Sample2 b = sampleUniformTriangle(u);
-        float b0 = b.u, b1 = b.v, b2 = 1.0f - b0 - b1;
-        Vec3 p = g.p0 * b0 + g.p1 * b1 + g.p2 * b2;
-        Vec3 d = p - ref;
-        float dist2 = dot(d, d);
-        if (!(dist2 > 0)) return false;
-        float dist = std::sqrt(dist2);
-        Vec3 wi = d / dist;
-        float cosLight = dot(g.n, -wi);
-        const Material& m = scene.material(light.mesh);
-        if (cosLight == 0 || (!m.doubleSided && cosLight < 0)) return false;
-        // Area density 1/A becomes solid-angle density dist²/(A·|cosθ_light|).
-        out->pdf = dist2 / (g.area * std::abs(cosLight));
-        out->wi = wi;
-        out->p = p;
-        out->dist = dist;
-        SurfaceHit hit;
-        hit.mesh = light.mesh;
-        hit.triangle = light.triangle;
-        hit.p = p;
-        hit.ng = hit.ns = g.n;
-        const Mesh& mesh = scene.mesh(light.mesh);
-        if (!mesh.uvs.empty()) {
-            const uint32_t* idx = &mesh.indices[3 * light.triangle];
-            hit.u = mesh.uvs[2 * idx[0]] * b0 + mesh.uvs[2 * idx[1]] * b1 + mesh.uvs[2 * idx[2]] * b2;
-            hit.v = mesh.uvs[2 * idx[0] + 1] * b0 + mesh.uvs[2 * idx[1] + 1] * b1 + mesh.uvs[2 * idx[2] + 1] * b2;
-        }
-        out->Le = scene.emission(hit, -wi);
-        return out->pdf > 0 && std::isfinite(out->pdf);
+        double omega = 0;
+        const bool bySolidAngle = samplesBySolidAngle(scene, light, ref, &omega);
+        return sampleTriangle(scene, light, ref, u, bySolidAngle ? omega : 0.0, out);
     }
     }
     return false;
@@ -127,17 +250,24 @@ float lightPdf(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, Vec3 n)
         return 1.0f / (2.0f * kPi * sphereConeOneMinusCos(light.radius, dc));
     }
     case LightKind::Triangle: {
-        TriangleGeometry g = triangleOf(scene, light);
-        Vec3 d = p - ref;
-        float dist2 = dot(d, d);
-        float cosLight = -dot(g.n, d) / std::sqrt(dist2);  // dot(n, −wi), as in sampleLight
-        const Material& m = scene.material(light.mesh);
-        if (!(g.area > 0) || cosLight == 0 || (!m.doubleSided && cosLight < 0)) return 0.0f;
-        return dist2 / (g.area * std::abs(cosLight));
+        double omega = 0;
+        const bool bySolidAngle = samplesBySolidAngle(scene, light, ref, &omega);
+        return trianglePdf(scene, light, ref, p, bySolidAngle, omega);
     }
     default:
         return 0.0f;  // delta lights are never hit
     }
+}
+
+bool sampleLightByArea(const Scene& scene, const Light& light, const Vec3& refIn, Sample2 u, LightSample* out) {
+    if (light.kind != LightKind::Triangle) return sampleLight(scene, light, refIn, u, out);
+    *out = LightSample{};
+    return sampleTriangle(scene, light, loadVec3(refIn), u, 0.0, out);
+}
+
+float lightPdfByArea(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, Vec3 n) {
+    if (light.kind != LightKind::Triangle) return lightPdf(scene, light, ref, p, n);
+    return trianglePdf(scene, light, ref, p, false, 0.0);
 }
 
 float lightPower(const Scene& scene, const Light& light) {

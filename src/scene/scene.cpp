@@ -10,6 +10,42 @@
 
 namespace brume {
 
+// Rectangles among the emissive triangles: consecutive triangles (2k, 2k + 1) of a mesh that
+// share two vertices a, c (the diagonal), whose other vertices b, d satisfy a + c = b + d (a
+// parallelogram: the diagonals bisect each other) and |a − c| = |b − d| (equal diagonals: a
+// rectangle), facing the same way. Within a relative 1e-4 of the diagonal's length.
+static void pairRectangles(const SceneDescription& desc, std::vector<Light>& lights, const std::vector<int>& firstLight) {
+    for (size_t m = 0; m < desc.meshes.size(); ++m) {
+        if (firstLight[m] < 0) continue;
+        const Mesh& mesh = desc.meshes[m];
+        for (int t = 0; t + 1 < mesh.triangleCount(); t += 2) {
+            const uint32_t* i1 = &mesh.indices[3 * t];
+            const uint32_t* i2 = &mesh.indices[3 * (t + 1)];
+            // The vertex of each triangle that the other lacks.
+            int lone1 = -1, lone2 = -1, shared = 0;
+            for (int k = 0; k < 3; ++k) {
+                const bool in2 = i1[k] == i2[0] || i1[k] == i2[1] || i1[k] == i2[2];
+                const bool in1 = i2[k] == i1[0] || i2[k] == i1[1] || i2[k] == i1[2];
+                shared += in2;
+                if (!in2) lone1 = k;
+                if (!in1) lone2 = k;
+            }
+            if (shared != 2 || lone1 < 0 || lone2 < 0) continue;
+            const Vec3 b = mesh.positions[i1[lone1]], d = mesh.positions[i2[lone2]];
+            const Vec3 a = mesh.positions[i1[(lone1 + 1) % 3]], c = mesh.positions[i1[(lone1 + 2) % 3]];
+            const float diag = length(a - c), tol = 1e-4f * diag;
+            if (!(diag > 0) || length((a + c) - (b + d)) > tol || std::abs(length(b - d) - diag) > tol) continue;
+            const Vec3 n1 = cross(a - b, c - b);
+            const Vec3 n2 = cross(mesh.positions[i2[1]] - mesh.positions[i2[0]], mesh.positions[i2[2]] - mesh.positions[i2[0]]);
+            const Vec3 f1 = cross(mesh.positions[i1[1]] - mesh.positions[i1[0]], mesh.positions[i1[2]] - mesh.positions[i1[0]]);
+            if (!(dot(f1, n2) > 0) || !(length(n1) > 0)) continue;
+            lights[size_t(firstLight[m] + t)].partner = t + 1;
+            lights[size_t(firstLight[m] + t + 1)].partner = t;
+        }
+    }
+}
+
+
 void MediumStack::toggle(int medium) {
     for (int i = 0; i < count; ++i)
         if (media[i] == medium) {  // leaving: remove it, keep the order of the rest
@@ -80,12 +116,14 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
             lights_.push_back(l);
         }
     }
+    pairRectangles(desc_, lights_, firstTriangleLight_);
     std::vector<float> power(lights_.size());
     for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);
     for (const Light& l : lights_) {
         hasHittableLights_ |= l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
         hasDirectionalLights_ |= l.kind == LightKind::Directional;
+        hasTriangleLights_ |= l.kind == LightKind::Triangle;
     }
 
     for (const Mesh& mesh : desc_.meshes)

@@ -139,6 +139,42 @@ def area_quad(name):
     return b.write(out(name))
 
 
+TOP_SLOPE = math.tan(0.5 * SINGLE_YFOV)  # the top of the view: y = TOP_SLOPE * (-z)
+
+
+def panel_close_geometry():
+    """A 1.0 m x 1.5 m panel parallel to the top plane of the view (camera at the origin, yfov
+    0.6, square image), 4 cm above it, centred over z = -3 and facing into the view; the
+    quadrature oracle of test_pt_area_oracles / test_bdpt_oracles uses the same numbers."""
+    n_top = g.normalize((0.0, 1.0, TOP_SLOPE))          # out of the view through its top plane
+    along = g.normalize((0.0, TOP_SLOPE, -1.0))         # up the top plane, away from the camera
+    center = g.add((0.0, 3.0 * TOP_SLOPE, -3.0), g.scale(n_top, 0.04))
+    return center, (0.5, 0.0, 0.0), g.scale(along, 0.75), g.scale(n_top, -1.0)
+
+
+def area_rectangles_close(name):
+    """Quadrature oracle for large area lights close to the view rays (one-sided rectangles,
+    radiance 3, in single-scattering fog): the ceiling panel of panel_close_geometry, and a
+    1.6 m x 1.2 m window in the plane x = 0.55 beside the camera (z from -0.1 to -1.7, facing
+    -x), 2.5 cm outside the view at its far end."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                             emissive=(3.0, 3.0, 3.0))
+    center, u, v, normal = panel_close_geometry()
+    # quad's front normal is u x v: order the spans so that it is `normal`
+    if g.dot(g.cross(u, v), normal) < 0:
+        u, v = v, u
+    panel = checked_quad(center, u, v, normal)
+    window = checked_quad((0.55, 0.0, -0.9), (0.0, 0.0, 0.8), (0.0, 0.6, 0.0), (-1.0, 0.0, 0.0))
+    assert 0.55 - TOP_SLOPE * 1.7 > 0.02, "the window is outside the view"
+    for part, label in ((panel, "panel"), (window, "window")):
+        pos, nrm, uvs, idx = part
+        b.add_node(label, mesh=b.add_mesh(label, pos, idx, normals=nrm, material=emitter))
+    return b.write(out(name))
+
+
 # ---------------------------------------------------------------------------------------------
 # Small scenes for comparing the bidirectional path tracer with the path tracer (rendered at
 # tiny resolutions with a few hundred samples per pixel).
@@ -377,6 +413,8 @@ def main():
         # Sphere light partly in view (test_pt_area_oracles).
         single("area_sphere.gltf", (0.8, 0.5, -3.0), radius=0.3),
         area_quad("area_quad.gltf"),
+        # Large one-sided rectangles a few centimetres from the view rays (solid-angle sampling).
+        area_rectangles_close("area_rectangles_close.gltf"),
         # Dense fog (mean free path 0.4 m, light 3 m away) and a light exactly on the central
         # camera ray of an odd-sized image (D = 0 for equi-angular sampling).
         single("single_dense.gltf", (0.3, 0.2, -3.0), scattering=2.0, absorption=0.5),

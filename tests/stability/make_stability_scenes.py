@@ -310,6 +310,46 @@ def zero_area_emitter(name, with_point_light):
     return b.write(out(name))
 
 
+# ---------------------------------------------------------------------------------------------
+# Large area lights close up (solid-angle sampling of emitters)
+
+def panel_floor(b):
+    add_quad(b, "floor", (0.0, -1.0, -4.0), (0.0, 0.0, 3.0), (3.0, 0.0, 0.0), (0.0, 1.0, 0.0), grey(b))
+
+
+def camera_in_panel_plane(name):
+    """A one-sided 2 m x 3 m panel (radiance 4, facing down) whose plane y = 0 holds the camera:
+    the middle row of camera rays runs in the emitter's plane, grazing it edge-on; a floor."""
+    b = builder()
+    ambient_fog(b)
+    add_quad(b, "panel", (1.3, 0.0, -2.5), (1.0, 0.0, 0.0), (0.0, 0.0, 1.5), (0.0, -1.0, 0.0), emitter(b, 4.0))
+    panel_floor(b)
+    return b.write(out(name))
+
+
+def reflective_emitter(name):
+    """Rays that start on the emitter: a 1.2 m panel (radiance 3, facing down, double-sided)
+    that is also a grey diffuse reflector, 0.4 m above a floor, so that paths bounce off it
+    and sample it from its own surface."""
+    b = builder(translation=(0.0, 0.3, 0.0))
+    ambient_fog(b)
+    m = b.add_material("glowing_grey", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0,
+                       emissive=(3.0, 3.0, 3.0), double_sided=True)
+    add_quad(b, "panel", (0.0, -0.6, -3.0), (0.6, 0.0, 0.0), (0.0, 0.0, 0.6), (0.0, -1.0, 0.0), m)
+    panel_floor(b)
+    return b.write(out(name))
+
+
+def huge_emitter(name):
+    """A 2 km x 2 km ceiling (radiance 0.5, facing down) 1.5 m above the camera, over a floor:
+    it subtends nearly a hemisphere from every point (solid-angle sampling falls back to area)."""
+    b = builder()
+    ambient_fog(b)
+    add_quad(b, "sky_panel", (0.0, 1.5, -3.0), (1000.0, 0.0, 0.0), (0.0, 0.0, 1000.0), (0.0, -1.0, 0.0), emitter(b, 0.5))
+    panel_floor(b)
+    return b.write(out(name))
+
+
 def main():
     written = [
         on_ray("on_ray.gltf"),
@@ -330,6 +370,9 @@ def main():
         area_over_floor("degenerate.gltf", degenerates=True),
         zero_area_emitter("zero_area_emitter.gltf", with_point_light=True),
         zero_area_emitter("zero_area_only.gltf", with_point_light=False),
+        camera_in_panel_plane("camera_in_panel_plane.gltf"),
+        reflective_emitter("reflective_emitter.gltf"),
+        huge_emitter("huge_emitter.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

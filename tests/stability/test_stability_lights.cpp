@@ -81,3 +81,20 @@ TEST_CASE("stability: only a directional light, its node inside the fog box", "[
 TEST_CASE("stability: a point and a sphere light inside a bounded medium", "[stability]") {
     runStabilityCase(StabilityCase("light_in_box", "light_in_box.gltf"));
 }
+
+TEST_CASE("stability: the camera in the plane of a large one-sided panel", "[stability]") {
+    // The middle row of camera rays runs in the emitter's plane: solid angles of exactly 0
+    // there, growing away from it; the rectangle is sampled as one by solid angle.
+    runStabilityCase(StabilityCase("camera_in_panel_plane", "camera_in_panel_plane.gltf"));
+}
+
+TEST_CASE("stability: rays that start on a reflecting emitter", "[stability]") {
+    // A double-sided panel that also reflects: paths bounce off it and sample it from its own
+    // surface (solid angle 0 or 2π at the start of the ray; area sampling there).
+    runStabilityCase(StabilityCase("reflective_emitter", "reflective_emitter.gltf"));
+}
+
+TEST_CASE("stability: a 2 km emitter 1.5 m overhead", "[stability]") {
+    // Nearly a hemisphere from everywhere: above the spherical limit, area sampling.
+    runStabilityCase(StabilityCase("huge_emitter", "huge_emitter.gltf"));
+}

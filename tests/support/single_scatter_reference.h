@@ -44,12 +44,17 @@ inline void gaussLegendre(int n, std::vector<double>& x, std::vector<double>& w)
 
 // ∫0^tEnd g(t) dt for g peaked like 1/|x(t) − c|²: t = Δ + D·tanφ, composite Simpson in φ.
 template <class G>
+double integrateAlongRayN(Vec3 d, Vec3 c, double tEnd, G g, int n);
+template <class G>
 double integrateAlongRay(Vec3 d, Vec3 c, double tEnd, G g) {
+    return integrateAlongRayN(d, c, tEnd, g, 2000);
+}
+template <class G>
+double integrateAlongRayN(Vec3 d, Vec3 c, double tEnd, G g, int n) {
     double delta = double(c.x) * d.x + double(c.y) * d.y + double(c.z) * d.z;
     double px = c.x - delta * d.x, py = c.y - delta * d.y, pz = c.z - delta * d.z;
     double D = std::sqrt(px * px + py * py + pz * pz);
     double a = std::atan2(-delta, D), b = std::isinf(tEnd) ? 0.5 * M_PI : std::atan2(tEnd - delta, D);
-    const int n = 2000;
     auto f = [&](double phi) {
         if (phi >= 0.5 * M_PI) return 0.0;
         double tanp = std::tan(phi);
@@ -124,6 +129,47 @@ inline double quadReference(Vec3 d, Vec3 q, Vec3 eu, Vec3 ev, Vec3 n, double Le)
     return integrateAlongRay(d, q, INFINITY, inScatter);
 }
 
+// One-sided rectangle light (corner q0, perpendicular full edges e1, e2, front normal n,
+// radiance Le) seen along d from the origin, for rectangles close to the ray: the inner
+// integral is taken over the solid angle, where its integrand is smooth however close the
+// rectangle is. For x at height h in front of the plane, with (a, b) the in-plane offsets of a
+// rectangle point from x's foot, a = h·tanα and b = √(h² + a²)·tanβ give dω = cosβ dα dβ
+// (nGL Gauss–Legendre nodes in each). The rays must not hit the rectangle.
+inline double rectangleReferenceClose(Vec3 d, Vec3 q0, Vec3 e1, Vec3 e2, Vec3 n, double Le, int nT = 2000, int nGL = 12) {
+    std::vector<double> gx, gw;
+    gaussLegendre(nGL, gx, gw);
+    const double l1 = length(e1), l2 = length(e2);
+    const Vec3 u1 = e1 / float(l1), u2 = e2 / float(l2);
+    auto inScatter = [&](double t) {
+        const double x[3] = {t * d.x, t * d.y, t * d.z};
+        const double rel[3] = {x[0] - q0.x, x[1] - q0.y, x[2] - q0.z};
+        auto along = [&](Vec3 e) { return rel[0] * e.x + rel[1] * e.y + rel[2] * e.z; };
+        const double h = along(n), ac = along(u1), bc = along(u2);
+        if (!(h > 0)) return 0.0;
+        const double a0 = std::atan(-ac / h), a1 = std::atan((l1 - ac) / h);
+        double sum = 0;
+        for (int i = 0; i < nGL; ++i) {
+            const double alpha = 0.5 * (a0 + a1) + 0.5 * (a1 - a0) * gx[i];
+            const double a = h * std::tan(alpha), Ra = std::sqrt(h * h + a * a);
+            const double b0 = std::atan(-bc / Ra), b1 = std::atan((l2 - bc) / Ra);
+            double inner = 0;
+            for (int j = 0; j < nGL; ++j) {
+                const double beta = 0.5 * (b0 + b1) + 0.5 * (b1 - b0) * gx[j];
+                const double b = Ra * std::tan(beta), r = Ra / std::cos(beta);
+                // x − y = h·n − a·u1 − b·u2; light travels y → x, then along −d.
+                const double toX[3] = {h * n.x - a * u1.x - b * u2.x, h * n.y - a * u1.y - b * u2.y,
+                                       h * n.z - a * u1.z - b * u2.z};
+                const double cosPhase = -(d.x * toX[0] + d.y * toX[1] + d.z * toX[2]) / r;
+                inner += gw[j] * std::cos(beta) * phaseHG(cosPhase) * std::exp(-kSigmaT * r);
+            }
+            sum += gw[i] * inner * 0.5 * (b1 - b0);
+        }
+        return kSigmaS * std::exp(-kSigmaT * t) * Le * sum * 0.5 * (a1 - a0);
+    };
+    // Along the ray in the angle towards the rectangle's centre, as for the other lights.
+    return integrateAlongRayN(d, q0 + (e1 + e2) * 0.5f, INFINITY, inScatter, nT);
+}
+
 // The four --connect modes, for tests that run each.
 const ConnectMode kConnectModes[] = {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Product,
                                      ConnectMode::Mis};
@@ -188,6 +234,24 @@ inline Vec3 singleScatterReference(Vec3 d, Vec3 c, Vec3 I, Vec3 sigmaS, Vec3 sig
         out[ch] = float(sum * h / 3);
     }
     return out;
+}
+
+}  // namespace brume::test
+
+namespace brume::test {
+
+// tests/data/area_rectangles_close.gltf (make_test_scenes.py, area_rectangles_close): a ceiling
+// panel 4 cm above the top plane of the view and a window beside the camera, radiance 3.
+inline double rectanglesCloseReference(Vec3 d, int nT = 2000, int nGL = 12) {
+    const double slope = std::tan(0.5 * kYfov);
+    const Vec3 nTop = normalize(Vec3(0.0f, 1.0f, float(slope)));
+    const Vec3 along = normalize(Vec3(0.0f, float(slope), -1.0f));
+    const Vec3 center = Vec3(0.0f, float(3.0 * slope), -3.0f) + nTop * 0.04f;
+    const Vec3 u(0.5f, 0.0f, 0.0f), v = along * 0.75f;
+    const double panel = rectangleReferenceClose(d, center - u - v, u * 2.0f, v * 2.0f, -nTop, 3.0, nT, nGL);
+    const double window = rectangleReferenceClose(d, Vec3(0.55f, -0.6f, -1.7f), Vec3(0.0f, 0.0f, 1.6f), Vec3(0.0f, 1.2f, 0.0f),
+                                                  Vec3(-1.0f, 0.0f, 0.0f), 3.0, nT, nGL);
+    return panel + window;
 }
 
 }  // namespace brume::test

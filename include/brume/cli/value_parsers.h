@@ -6,6 +6,7 @@
 
 #include "brume/cli/usage_error.h"
 #include "brume/sampling/sampler.h"
+#include "brume/scene/scene.h"
 
 namespace brume::cli {
 
@@ -28,5 +29,8 @@ void checkResolution(const std::string& what, Resolution r);
 // "sobol" or "independent", and back.
 SamplerKind parseSamplerKind(const std::string& what, const std::string& text);
 const char* samplerName(SamplerKind kind);
+// "solid-angle" or "area", and back.
+EmitterSampling parseEmitterSampling(const std::string& what, const std::string& text);
+const char* emitterSamplingName(EmitterSampling e);
 
 }  // namespace brume::cli

@@ -23,8 +23,10 @@
 // is for coloured media only: in grey media the path tracer is the same estimator as "pt+ea"
 // (the same strategies in the bidirectional tracer), whose re-weighted moment also sees the
 // rare paths the pilot's light subpaths found and a probe of a few passes misses (a caustic
-// that the path tracer finds only by chance would look less noisy, being black there); in
-// coloured media too the probe is set aside for pt+ea's moment when its mean falls more than
+// that the path tracer finds only by chance would look less noisy, being black there) —
+// unless the path tracer has a strategy of its own (distances by the solid angle of an
+// emissive triangle, integrators/solid_angle_segment.h), when it is probed as in coloured
+// media; there too the probe is set aside for pt+ea's moment when its mean falls more than
 // 10 % short of the pilot's, and pt+ea's bias (an infinite moment) rules it out. Cost: the rays each part of the pilot's samples
 // traced, each part weighted by the measured cost of one of its rays (cost()), the parts a
 // candidate drops left out and general connections scaled by their probability; a
@@ -48,8 +50,12 @@ public:
     static constexpr int kPathTracerProbe = PathStats::kSums - 1, kPathTracerProbeMean = PathStats::kSums - 2;
 
     explicit AllocationPlanner(ConnectMode connect);
-    // The scene's Scene::mediumChannels() (1 without coloured media), told before each pass.
-    void setChannels(int channels) { channels_ = channels; }
+    // Whether the path tracer is an estimator of its own rather than "pt+ea" re-weighted, so
+    // that its probe samples (below) measure it: in coloured media, and where it has a
+    // strategy the bidirectional tracer lacks (distances by an emitter's solid angle). Told
+    // before each pass.
+    void setPathTracerProbe(bool on) { probe_ = on; }
+    bool pathTracerProbe() const { return probe_; }
 
     // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
     const BdptAllocation& allocationFor(int pass) const;
@@ -88,7 +94,7 @@ private:
 
     std::vector<BdptAllocation> candidates_;
     int pilot_ = 0;
-    int channels_ = 1;
+    bool probe_ = false;
     int chosen_ = -1;
     int width_ = 0, height_ = 0;
     std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far

@@ -30,6 +30,10 @@ bool equiAngularAnchor(const Scene& scene, const Light& light, Sample2 u, Vec3* 
 bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
                         EquiAngular* out);
 
+// The part [*t0, *t1) of seg that the light can reach: a spot light's cone, a one-sided
+// emitter's front half-space, else all of it. False if nothing remains.
+bool clipToLight(const Scene& scene, const Light& light, const MediumSegment& seg, float* t0, float* t1);
+
 // Clip [t0, t1] to the points of the ray o + t·d inside a spot light's outer cone
 // (a superset at worst). False if nothing remains.
 bool clipToSpotCone(const Light& spot, Vec3 o, Vec3 d, float* t0, float* t1);

@@ -12,6 +12,8 @@
 //   pt at camera vertex k: next-event estimate   connection(1, k + 1) (same fields)
 //   pt on the segment leaving camera vertex k:   equiAngularSegment(k) + kPick, kAnchor (2D),
 //     equi-angular strategy                        kEquiAngular, kLightPoint (2D)
+//   pt on the segment leaving camera vertex k:   solidAngleSegment(k) + kPick, kEquiAngular
+//     solid-angle distance strategy                (the distance), kLightPoint (2D)
 //
 // A decision repeated a variable number of times on one place (free flight through several
 // invisible-boundary pieces, pt's equi-angular strategy per piece) reads its dimension with
@@ -47,5 +49,6 @@ constexpr uint32_t connection(int s, int t) {
     return 0x10000u + (uint32_t(s) * (kMaxPlace + 1) + uint32_t(t)) * kBlock;
 }
 constexpr uint32_t equiAngularSegment(int k) { return 0x1000000u + uint32_t(k) * kBlock; }
+constexpr uint32_t solidAngleSegment(int k) { return 0x1800000u + uint32_t(k) * kBlock; }
 
 }  // namespace brume::dim

@@ -29,4 +29,17 @@ inline float halfPiPlusAtan(float x) {
     return x >= -1 ? kHalfPi - atanUnit(-x) : atanUnit(-1 / x);
 }
 
+// atan2(y, x) for y ≥ 0, in [0, π] (0 when both are 0).
+inline float atan2NonNegative(float y, float x) {
+    constexpr float kPi = 3.14159265359f, kHalfPi = 1.57079632679f;
+    const float ax = x < 0 ? -x : x;
+    if (ax >= y) {
+        if (ax == 0) return 0.0f;
+        const float a = atanUnit(y / ax);
+        return x > 0 ? a : kPi - a;
+    }
+    const float a = atanUnit(ax / y);
+    return x >= 0 ? kHalfPi - a : kHalfPi + a;
+}
+
 }  // namespace brume

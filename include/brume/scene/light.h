@@ -17,6 +17,10 @@ struct Light {
     float radius = 0;              // sphere: uniform surface radiance I/(π r²)
     float cosInner = 1, cosOuter = 0;  // spot cone (glTF innerConeAngle, outerConeAngle)
     int mesh = -1, triangle = -1;  // triangle: which mesh and which triangle of it
+    // Triangle: the other half of a rectangle (two triangles of one emissive mesh that share a
+    // diagonal and make a rectangle), or -1. Seen from a point, the rectangle is sampled as one
+    // by solid angle (light_sampling.h), whichever half was picked.
+    int partner = -1;
 };
 
 // glTF spot attenuation: scale = 1/max(0.001, cosInner − cosOuter), offset = −cosOuter·scale,

@@ -14,6 +14,12 @@
 
 namespace brume {
 
+// How light points on emissive triangles are sampled from a reference point
+// (scene/light_sampling.h): uniformly by area (the light point first, as the seed talk does),
+// or uniformly in the solid angle the triangle subtends, with distances sampled by that
+// solid angle on medium segments (integrators/solid_angle_segment.h).
+enum class EmitterSampling { Area, SolidAngle };
+
 // Where a ray met a surface, with everything shading needs.
 struct SurfaceHit {
     float t = kInfinity;
@@ -62,8 +68,12 @@ public:
     // True if a path can hit an emitter: some light is an emissive triangle or a sphere.
     bool hasHittableLights() const { return hasHittableLights_; }
     bool hasDirectionalLights() const { return hasDirectionalLights_; }
+    // True if some light is an emissive triangle.
+    bool hasTriangleLights() const { return hasTriangleLights_; }
     Vec3 boundsCenter() const { return boundsCenter_; }
     float boundsRadius() const { return boundsRadius_; }
+    EmitterSampling emitterSampling() const { return emitterSampling_; }
+    void setEmitterSampling(EmitterSampling e) { emitterSampling_ = e; }
 
     // Closest hit along the ray within [0, ray.tmax): triangles and sphere lights.
     SurfaceHit intersect(const Ray& ray) const;
@@ -97,10 +107,12 @@ private:
     bool hasInvisibleBoundaries_ = false;
     int mediumChannels_ = 1;
     bool hasHittableLights_ = false;
-    bool hasDirectionalLights_ = false;  // per mesh, -1 if not emissive
+    bool hasDirectionalLights_ = false;
+    bool hasTriangleLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;
+    EmitterSampling emitterSampling_ = EmitterSampling::SolidAngle;
     RTCDevice device_ = nullptr;
     RTCScene rtcScene_ = nullptr;
 };

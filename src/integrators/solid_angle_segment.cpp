@@ -1,0 +1,109 @@
+#include "brume/integrators/solid_angle_segment.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "brume/math/fast_atan.h"
+#include "brume/scene/scene.h"
+
+namespace brume {
+
+bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSegment& seg, SolidAngleDistance* out) {
+    if (light.kind != LightKind::Triangle) return false;
+    float a, b;
+    if (!clipToLight(scene, light, seg, &a, &b)) return false;
+    // The emitter: the triangle, or the rectangle it is half of (Light::partner), as triangles.
+    const Mesh& mesh = scene.mesh(light.mesh);
+    Vec3 tri[2][3];
+    const int halves = light.partner >= 0 ? 2 : 1;
+    for (int h = 0; h < halves; ++h) {
+        const uint32_t* idx = &mesh.indices[3 * (h == 0 ? light.triangle : light.partner)];
+        for (int k = 0; k < 3; ++k) tri[h][k] = mesh.positions[idx[k]];
+    }
+    const Vec3 p0 = tri[0][0], p1 = tri[0][1], p2 = tri[0][2];
+    double area = 0;
+    Vec3 c(0.0f);
+    for (int h = 0; h < halves; ++h) {
+        const double a = 0.5 * double(length(cross(tri[h][1] - tri[h][0], tri[h][2] - tri[h][0])));
+        area += a;
+        c += (tri[h][0] + tri[h][1] + tri[h][2]) * float(a / 3.0);
+    }
+    if (!(area > 0)) return false;
+    c = c / float(area);  // area-weighted centroid
+    const bool doubleSided = scene.material(light.mesh).doubleSided;
+    SolidAngleDistance& s = *out;
+    const Vec3 oc = c - seg.o;
+    s.delta = dot(oc, seg.d);
+    const Vec3 perp = oc - seg.d * float(s.delta);
+    s.D = std::max(double(length(perp)), 0.25 * std::sqrt(area));
+    s.a = a;
+    s.b = b;
+    s.thetaA = std::atan2(double(a) - s.delta, s.D);
+    s.thetaB = std::isinf(b) ? 0.5 * M_PI : std::atan2(double(b) - s.delta, s.D);
+    if (!(s.thetaB > s.thetaA)) return false;
+    // The table in float: it only has to be a deterministic function of the segment (the
+    // density is whatever it tabulates), and float halves its cost.
+    const float step = float(s.thetaB - s.thetaA) / SolidAngleDistance::kBins;
+    const float D = float(s.D), thetaA = float(s.thetaA);
+    const Vec3 base = seg.o + seg.d * float(s.delta);
+    const Vec3 n = cross(p1 - p0, p2 - p0);
+    // The midpoints' tangents by the addition formula tan(a + h) = (tan a + tan h)/(1 − tan a·tan h).
+    const float tanStep = std::tan(step);
+    float tanMid = std::tan(thetaA + 0.5f * step);
+    double q[SolidAngleDistance::kBins], sum = 0;
+    for (int i = 0; i < SolidAngleDistance::kBins; ++i) {
+        if (i > 0) {
+            const float den = 1.0f - tanMid * tanStep;
+            tanMid = den > 1e-3f ? (tanMid + tanStep) / den : std::tan(thetaA + (float(i) + 0.5f) * step);
+        }
+        const float u = D * tanMid;  // t − Δ
+        const Vec3 x = base + seg.d * u;
+        // Van Oosterom–Strackee (spherical_triangle.h) in float, with a polynomial atan; the
+        // front side only for a one-sided emitter (n·(x − p0) > 0).
+        float omega = 0;
+        for (int h = 0; h < halves; ++h) {
+            const Vec3 r0 = tri[h][0] - x, r1 = tri[h][1] - x, r2 = tri[h][2] - x;
+            const float l0 = length(r0), l1 = length(r1), l2 = length(r2);
+            const float triple = std::abs(dot(r0, cross(r1, r2)));
+            const float den = l0 * l1 * l2 + dot(r0, r1) * l2 + dot(r0, r2) * l1 + dot(r1, r2) * l0;
+            omega += 2.0f * atan2NonNegative(triple, den);
+        }
+        if (!doubleSided && dot(n, x - p0) <= 0) omega = 0;
+        q[i] = double(omega) * (D * D + u * u) / D;
+        sum += q[i];
+    }
+    if (!(sum > 0) || !std::isfinite(sum)) return false;
+    const double floor = 0.1 * sum / SolidAngleDistance::kBins;
+    double total = sum + floor * SolidAngleDistance::kBins, acc = 0;
+    s.cdf[0] = 0;
+    for (int i = 0; i < SolidAngleDistance::kBins; ++i) {
+        acc += q[i] + floor;
+        s.cdf[i + 1] = acc / total;
+    }
+    s.cdf[SolidAngleDistance::kBins] = 1.0;
+    return true;
+}
+
+float sampleSolidAngleDistance(const SolidAngleDistance& s, float uf) {
+    const double u = uf;
+    int i = 0;
+    while (i + 1 < SolidAngleDistance::kBins && s.cdf[i + 1] <= u) ++i;
+    const double width = s.cdf[i + 1] - s.cdf[i];
+    const double frac = width > 0 ? std::min(1.0, std::max(0.0, (u - s.cdf[i]) / width)) : 0.5;
+    const double theta = s.thetaA + (i + frac) * (s.thetaB - s.thetaA) / SolidAngleDistance::kBins;
+    const double t = s.delta + s.D * std::tan(theta);
+    return float(std::min(double(s.b), std::max(double(s.a), t)));
+}
+
+float solidAngleDistancePdf(const SolidAngleDistance& s, float tf) {
+    if (!(tf >= s.a && tf <= s.b)) return 0.0f;
+    const double u = double(tf) - s.delta;
+    const double theta = std::atan2(u, s.D);
+    const double span = s.thetaB - s.thetaA;
+    const int i = std::min(SolidAngleDistance::kBins - 1,
+                           std::max(0, int((theta - s.thetaA) / span * SolidAngleDistance::kBins)));
+    const double q = (s.cdf[i + 1] - s.cdf[i]) * SolidAngleDistance::kBins / span;
+    return float(q * s.D / (s.D * s.D + u * u));
+}
+
+}  // namespace brume

@@ -41,6 +41,7 @@ struct RenderArgs {
     bool sppGiven = false;
     double seconds = 0;
     int maxDepth = -1;
+    bool maxDepthGiven = false;
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
     EmitterSampling emitters = EmitterSampling::SolidAngle;
@@ -110,7 +111,10 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--time", "SECONDS", "render whole passes until SECONDS are spent instead of --spp",
               [&](const std::string& v) { a.seconds = parsePositiveSeconds("--time", v, 1e7); });
     addOption(app, "--max-depth", "N", "most scattering events per path (default -1: unlimited)",
-              [&](const std::string& v) { a.maxDepth = int(parseInteger("--max-depth", v, -1, 1000000)); });
+              [&](const std::string& v) {
+                  a.maxDepth = int(parseInteger("--max-depth", v, -1, 1000000));
+                  a.maxDepthGiven = true;
+              });
     app.add_flag_callback("--no-nee", [&] { a.nee = false; }, "no next-event estimation (BSDF/phase sampling only)");
     addOption(app, "--connect", "MODE",
               "light connections on medium segments: density (from the free-flight point), equiangular, "
@@ -334,6 +338,10 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     Resolution res;
     try {
         SceneDescription desc = loadSceneDescription(a.scene);
+        // The scene's BRUME_render settings stand in for the options not given.
+        if (a.res.width == 0 && desc.render.width > 0) a.res = Resolution{desc.render.width, desc.render.height};
+        if (!a.sppGiven && a.seconds <= 0 && desc.render.spp > 0) a.spp = desc.render.spp;
+        if (!a.maxDepthGiven && desc.render.maxDepth >= -1) a.maxDepth = desc.render.maxDepth;
         res = imageResolution(desc.camera, a.res);
         sceneStorage.emplace(std::move(desc));
         sceneStorage->setEmitterSampling(a.emitters);

@@ -173,6 +173,29 @@ private:
     std::string orthographic_;  // the first orthographic camera met, for the error message
 };
 
+// "extensions": {"BRUME_render": {"width": W, "height": H, "spp": N, "maxDepth": D}}: every
+// member optional (width and height together); the limits are the command line's.
+RenderSettings parseRenderSettings(const Source& src, const tinygltf::Value& v) {
+    const std::string base = "extensions.BRUME_render";
+    if (!v.IsObject()) src.fail(base, "expected an object");
+    RenderSettings r;
+    auto read = [&](const char* key, int lo, int hi, int& out) {
+        const tinygltf::Value* m = gltf::member(v, key);
+        if (!m) return false;
+        const std::string field = base + "." + key;
+        int x = gltf::integer(src, *m, field);
+        if (x < lo || x > hi) src.fail(field, std::to_string(x) + " is not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        out = x;
+        return true;
+    };
+    const bool w = read("width", 1, 16384, r.width), h = read("height", 1, 16384, r.height);
+    if (w != h) src.fail(base, "width and height go together");
+    if (w && int64_t(r.width) * r.height > (int64_t(1) << 27)) src.fail(base, "more than 2^27 pixels");
+    read("spp", 1, 1 << 24, r.spp);
+    read("maxDepth", -1, 1000000, r.maxDepth);
+    return r;
+}
+
 }  // namespace
 
 SceneDescription loadGltf(const std::string& path) {
@@ -184,6 +207,8 @@ SceneDescription loadGltf(const std::string& path) {
     desc.path = path;
     auto media = model.extensions.find("BRUME_media");
     if (media != model.extensions.end()) gltf::parseMedia(src, media->second, desc);
+    auto render = model.extensions.find("BRUME_render");
+    if (render != model.extensions.end()) desc.render = parseRenderSettings(src, render->second);
     gltf::loadMaterials(src, model, desc);
 
     SceneWalker walker(src, model, desc);

@@ -11,6 +11,15 @@
 
 namespace brume {
 
+// Render settings a scene file may suggest (the root extension BRUME_render, written by the
+// Blender exporter): the command line's defaults when its own options are not given. 0 (and
+// maxDepth -2) = not given.
+struct RenderSettings {
+    int width = 0, height = 0;  // both or neither
+    int spp = 0;
+    int maxDepth = -2;          // -1: unlimited
+};
+
 struct SceneDescription {
     std::string path;               // the file it came from, for messages
     Camera camera;
@@ -20,6 +29,7 @@ struct SceneDescription {
     std::vector<Medium> media;
     int ambientMedium = -1;           // fills space outside bounded media; -1 = vacuum
     std::vector<Light> lights;        // punctual lights only; emissive triangles are added by Scene
+    RenderSettings render;            // from BRUME_render, if the file has it
 };
 
 }  // namespace brume

@@ -378,3 +378,23 @@ TEST_CASE("only rectangles are paired: a parallelogram and a kite stay two trian
         CHECK(scene.lights()[1].partner == -1);
     }
 }
+
+TEST_CASE("distances by solid angle apply near the emitter only, the same for both halves of a rectangle",
+          "[sampling][solidangle]") {
+    const Vec3 c[4] = {Vec3(-1, -0.75f, 2), Vec3(-1, 0.75f, 2), Vec3(1, 0.75f, 2), Vec3(1, -0.75f, 2)};
+    Scene scene = quadScene(c);
+    const float reach = kSolidAngleReach * std::sqrt(3.0f);  // √A, A = 3 m²
+    for (float miss : {0.5f * reach, 0.99f * reach, 1.01f * reach, 3.0f * reach}) {
+        // A segment along x passing `miss` below the rectangle's centre (0, 0, 2).
+        const MediumSegment seg{Vec3(-10, 0, 2 - miss), Vec3(1, 0, 0), 20, nullptr};
+        const bool near = miss < reach;
+        CHECK(solidAngleDistanceApplies(scene, scene.lights()[0], seg) == near);
+        CHECK(solidAngleDistanceApplies(scene, scene.lights()[1], seg) == near);
+    }
+    // Either half builds the same table, bit for bit.
+    const MediumSegment seg{Vec3(-3, 0.2f, 1.9f), Vec3(1, 0, 0), 6, nullptr};
+    SolidAngleDistance s0, s1;
+    REQUIRE(solidAngleDistanceOn(scene, scene.lights()[0], seg, &s0));
+    REQUIRE(solidAngleDistanceOn(scene, scene.lights()[1], seg, &s1));
+    for (int i = 0; i <= SolidAngleDistance::kBins; ++i) CHECK(s0.cdf[i] == s1.cdf[i]);
+}

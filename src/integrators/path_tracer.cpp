@@ -26,9 +26,10 @@ namespace brume {
 // exists, so by area on a triangle (p_area, in solid angle at x(t)); a sphere's anchor is its
 // centre and C then samples y as A does. D (solid_angle_segment.h) is for emissive triangles
 // in mis mode when the scene samples emitters by solid angle: close to a large emitter, where
-// the 1/r² of C's random light point is nearly singular, Ω(x) is smooth. Each estimate is
-// weighted by the power heuristic p_self² / Σ p² over the strategies the mode turns on
-// (mis: all four). At surfaces only A and B.
+// the 1/r² of C's random light point is nearly singular, Ω(x) is smooth; D then takes C's
+// place (usesEquiAngular). Each estimate is weighted by the power heuristic p_self² / Σ p²
+// over the strategies the mode turns on (mis: A, B and C, or A, B and D for emissive triangles
+// sampled by solid angle). At surfaces only A and B.
 namespace {
 
 // Where a medium vertex came from: needed to weigh strategies that could have made it.
@@ -48,6 +49,8 @@ struct SolidAngleTables {
     int count = 0, next = 0;
 
     const SolidAngleDistance* get(const Scene& scene, int li, const MediumSegment& seg) {
+        const Light& l = scene.lights()[size_t(li)];
+        if (l.partner >= 0 && l.partner < l.triangle) li = scene.triangleLight(l.mesh, l.partner);  // one table a rectangle
         for (int i = 0; i < count; ++i)
             if (light[i] == li) return valid[i] ? &table[i] : nullptr;
         const int i = count < kSlots ? count++ : (next++ % kSlots);
@@ -84,9 +87,16 @@ Spectrum throughputChannels(Spectrum beta) {
 }
 
 bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.kind == LightKind::Directional; }
-bool usesEquiAngular(ConnectMode m, const Light& l) { return m != ConnectMode::Density && l.kind != LightKind::Directional; }
-bool usesSolidAngle(const Scene& scene, ConnectMode m, const Light& l) {
-    return m == ConnectMode::Mis && l.kind == LightKind::Triangle && scene.emitterSampling() == EmitterSampling::SolidAngle;
+// D: in mis mode, for emissive triangles sampled by solid angle, on segments that pass close
+// to them (solidAngleDistanceApplies). It takes C's place there (docs/path-tracer.md: where D
+// is nearly exact, each further strategy adds to the MIS estimate's variance; C, whose 1/r²
+// towards a random light point is nearly singular close to the emitter, added 6–9×).
+bool usesSolidAngle(const Scene& scene, ConnectMode m, const Light& l, const MediumSegment& seg) {
+    return m == ConnectMode::Mis && l.kind == LightKind::Triangle && scene.emitterSampling() == EmitterSampling::SolidAngle &&
+           solidAngleDistanceApplies(scene, l, seg);
+}
+bool usesEquiAngular(const Scene& scene, ConnectMode m, const Light& l, const MediumSegment& seg) {
+    return m != ConnectMode::Density && l.kind != LightKind::Directional && !usesSolidAngle(scene, m, l, seg);
 }
 
 // A light path through a medium vertex: the light, the point y on it, and the densities the
@@ -99,22 +109,23 @@ struct MediumPath {
     float pL;       // p_L(y|x)
     bool delta;     // point or spot light
     float phase;    // p_phase(ω) of the direction to y
-    float c = -1, d = -1;
+    double c = -1, d = -1;
 };
 
+// In double: at grazing angles a density can pass float's range, and its square long before.
 struct StrategyDensities {
-    float a = 0, b = 0, c = 0, d = 0;
+    double a = 0, b = 0, c = 0, d = 0;
 };
 
 StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const MediumPath& path, ConnectMode mode,
                                SolidAngleTables& tables) {
     const Light& light = *path.light;
     StrategyDensities p;
-    if (usesDensity(mode, light)) p.a = o.pFreeFlight * path.pick * path.pL;
-    if (!path.delta) p.b = o.pFreeFlight * path.phase;
+    if (usesDensity(mode, light)) p.a = double(o.pFreeFlight) * path.pick * path.pL;
+    if (!path.delta) p.b = double(o.pFreeFlight) * path.phase;
     if (path.c >= 0) {
         p.c = path.c;
-    } else if (usesEquiAngular(mode, light)) {
+    } else if (usesEquiAngular(scene, mode, light, o.seg)) {
         // C draws its light point on the light it picked: y's own.
         const Light& yl = scene.lights()[size_t(path.yLight)];
         const Vec3 x = o.seg.o + o.seg.d * o.t;
@@ -123,21 +134,33 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         EquiAngular ea;
         const Vec3 anchor = yl.kind == LightKind::Triangle ? path.y : yl.position;
         if (pArea > 0 && equiAngularTowards(scene, yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
-            p.c = pick * pArea * equiAngularPdf(ea, o.t);
+            p.c = double(pick) * pArea * equiAngularPdf(ea, o.t);
     }
     if (path.d >= 0) {
         p.d = path.d;
-    } else if (usesSolidAngle(scene, mode, light)) {
+    } else if (usesSolidAngle(scene, mode, light, o.seg)) {
         if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
-            p.d = path.pick * solidAngleDistancePdf(*sd, o.t) * path.pL;
+            p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
     }
     return p;
 }
 
-// The power heuristic for the strategy with density `self` among all of p.
-float powerWeight(float self, const StrategyDensities& p) {
-    const float sum = p.a * p.a + p.b * p.b + p.c * p.c + p.d * p.d;
-    return sum > 0 ? self * self / sum : 0.0f;
+// The power heuristic for the strategy with density `self` among all of p, as
+// 1/(1 + Σ_others (p_o/p_self)²): an infinite density of its own weighs 1 (and its estimate,
+// divided by it, 0) instead of inf/inf.
+float powerWeight(double self, const StrategyDensities& p) {
+    if (!(self > 0)) return 0.0f;
+    double sum = 0;
+    bool seenSelf = false;
+    for (double o : {p.a, p.b, p.c, p.d}) {
+        if (!seenSelf && o == self) {
+            seenSelf = true;
+            continue;
+        }
+        const double r = o / self;
+        sum += std::isnan(r) ? 1.0 : r * r;
+    }
+    return float(1.0 / (1.0 + sum));
 }
 
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
@@ -186,7 +209,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
     const Light& light = scene.lights()[li];
-    if (!usesEquiAngular(mode, light)) return Spectrum(0.0f);
+    if (!usesEquiAngular(scene, mode, light, seg)) return Spectrum(0.0f);
     // Numbers only for what this light needs: a triangle's anchor (also its light point), a
     // sphere's light point.
     const Sample2 uAnchor = light.kind == LightKind::Triangle ? sampler.get2D(dims + dim::kAnchor, repeat) : Sample2{0, 0};
@@ -211,14 +234,14 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, phase};
-    path.c = pick * ls.pdf * pea;
+    path.c = double(pick) * ls.pdf * pea;
     if (light.kind == LightKind::Triangle) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     if (mode != ConnectMode::Mis) path.d = 0;
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
     if (mode != ConnectMode::Mis) p.a = 0;  // equiangular, product: C replaces A
     float w = powerWeight(p.c, p);
     if (w == 0) return Spectrum(0.0f);
-    return inScattered(scene, seg, tr, x, ls, li, phase, w / p.c, media, stats);
+    return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
 }
 
 // Strategy D: t in proportion to the solid angle of an emissive triangle, then a light point
@@ -230,7 +253,7 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
     const Light& light = scene.lights()[li];
-    if (!usesSolidAngle(scene, mode, light)) return Spectrum(0.0f);
+    if (!usesSolidAngle(scene, mode, light, seg)) return Spectrum(0.0f);
     const SolidAngleDistance* sd = tables.get(scene, li, seg);
     if (!sd) return Spectrum(0.0f);
     MediumOrigin origin{seg, sampleSolidAngleDistance(*sd, sampler.get1D(dims + dim::kEquiAngular, repeat)), 0.0f};
@@ -245,11 +268,11 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));
     MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, phase};
-    path.d = pick * pOmega * ls.pdf;
+    path.d = double(pick) * pOmega * ls.pdf;
     const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
     const float w = powerWeight(p.d, p);
     if (w == 0) return Spectrum(0.0f);
-    return inScattered(scene, seg, tr, x, ls, li, phase, w / p.d, media, stats);
+    return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
 }
 
 }  // namespace

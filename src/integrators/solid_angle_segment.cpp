@@ -8,6 +8,40 @@
 
 namespace brume {
 
+namespace {
+
+// The centroid and area of the emitter: the triangle, or its rectangle (Light::partner).
+void emitterCentroid(const Scene& scene, const Light& light, Vec3* c, float* area) {
+    const Mesh& mesh = scene.mesh(light.mesh);
+    Vec3 sum(0.0f);
+    float total = 0;
+    // In the order of the halves' numbers: the same bits from either half.
+    const int first = light.partner >= 0 ? std::min(light.triangle, light.partner) : light.triangle;
+    for (int t : {first, light.partner >= 0 ? std::max(light.triangle, light.partner) : -1}) {
+        if (t < 0) continue;
+        const uint32_t* idx = &mesh.indices[3 * t];
+        const Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
+        const float a = 0.5f * length(cross(p1 - p0, p2 - p0));
+        sum += (p0 + p1 + p2) * (a / 3.0f);
+        total += a;
+    }
+    *c = total > 0 ? sum / total : sum;
+    *area = total;
+}
+
+}  // namespace
+
+bool solidAngleDistanceApplies(const Scene& scene, const Light& light, const MediumSegment& seg) {
+    if (light.kind != LightKind::Triangle) return false;
+    Vec3 c;
+    float area;
+    emitterCentroid(scene, light, &c, &area);
+    if (!(area > 0)) return false;
+    const float along = std::min(seg.tEnd, std::max(0.0f, dot(c - seg.o, seg.d)));
+    const Vec3 toC = c - (seg.o + seg.d * along);
+    return dot(toC, toC) <= kSolidAngleReach * kSolidAngleReach * area;
+}
+
 bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSegment& seg, SolidAngleDistance* out) {
     if (light.kind != LightKind::Triangle) return false;
     float a, b;
@@ -16,8 +50,11 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
     const Mesh& mesh = scene.mesh(light.mesh);
     Vec3 tri[2][3];
     const int halves = light.partner >= 0 ? 2 : 1;
+    // Halves in the order of their numbers: either half builds the same table, bit for bit.
+    const int first = light.partner >= 0 ? std::min(light.triangle, light.partner) : light.triangle;
+    const int second = std::max(light.triangle, light.partner);
     for (int h = 0; h < halves; ++h) {
-        const uint32_t* idx = &mesh.indices[3 * (h == 0 ? light.triangle : light.partner)];
+        const uint32_t* idx = &mesh.indices[3 * (h == 0 ? first : second)];
         for (int k = 0; k < 3; ++k) tri[h][k] = mesh.positions[idx[k]];
     }
     const Vec3 p0 = tri[0][0], p1 = tri[0][1], p2 = tri[0][2];

@@ -175,10 +175,12 @@ bool samplesBySolidAngle(const Scene& scene, const Light& light, Vec3 ref, doubl
     TriangleGeometry g = triangleOf(scene, light);
     double o = triangleSolidAngleSigned(ref, g.p0, g.p1, g.p2);
     if (light.partner >= 0) {
+        // The rectangle's, summed in the order of the halves' numbers: the same bits from either.
         Light half = light;
         half.triangle = light.partner;
         const TriangleGeometry h = triangleOf(scene, half);
-        o += triangleSolidAngleSigned(ref, h.p0, h.p1, h.p2);
+        const double other = triangleSolidAngleSigned(ref, h.p0, h.p1, h.p2);
+        o = light.triangle < light.partner ? o + other : other + o;
     }
     o = scene.material(light.mesh).doubleSided ? std::abs(o) : std::max(0.0, o);
     if (omega) *omega = o;

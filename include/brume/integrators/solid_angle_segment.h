@@ -22,11 +22,19 @@
 namespace brume {
 
 struct SolidAngleDistance {
-    static constexpr int kBins = 16;
+    static constexpr int kBins = 32;
     double delta = 0, D = 0, thetaA = 0, thetaB = 0;
     float a = 0, b = 0;         // the clipped segment
     double cdf[kBins + 1] = {};  // cumulative bin probabilities; cdf[kBins] = 1
 };
+
+// Whether seg passes close enough to `light` (an emissive triangle, or its rectangle) for
+// distances by its solid angle to pay: within kSolidAngleReach·√A of its centroid. Further
+// away the emitter looks like a point and equi-angular sampling towards a light point (the
+// talk's ordering) does as well, without the table. A function of the geometry alone, so the
+// strategy's density is exactly zero where it is not used.
+constexpr float kSolidAngleReach = 3.0f;
+bool solidAngleDistanceApplies(const Scene& scene, const Light& light, const MediumSegment& seg);
 
 // Set up for `light` (an emissive triangle) on seg; false if the light is not a triangle or
 // the clipped segment is empty.

@@ -4,7 +4,7 @@
 Renders SCENE K times with different seeds at equal time (or equal spp) and reports, for each
 method, the per-pixel relative variance var/mean^2 (over the K images) averaged over the rows
 nearest the panel and over the rows far from it, their ratio, and the whole image's mean
-relative variance times seconds (lower is better: 1/efficiency).
+relative variance times seconds, and the near rows' (lower is better: 1/efficiency).
 
   /usr/bin/python3 docs/bench/panel_rows.py --brume build/brume --scene scenes/bench_panel.gltf \
       --res 48x32 --near 0:4 --far 8:32 --time 4 --k 12 -- "pt --connect mis" "pt --connect mis --emitter-sampling area"
@@ -41,7 +41,7 @@ def main():
     n0, n1 = (int(v) for v in a.near.split(":"))
     f0, f1 = (int(v) for v in a.far.split(":"))
     print(f"{'method':48s} {'spp':>6s} {'seconds':>8s} {'relvar near':>12s} {'relvar far':>11s} "
-          f"{'near/far':>8s} {'relvar*s':>10s}")
+          f"{'near/far':>8s} {'relvar*s':>10s} {'near*s':>10s}")
     with tempfile.TemporaryDirectory() as tmp:
         for method in a.methods:
             imgs, secs, spps = [], [], []
@@ -64,7 +64,7 @@ def main():
             near, far = rel[n0:n1].mean(), rel[f0:f1].mean()
             t = float(np.mean(secs))
             print(f"{method:48s} {int(np.mean(spps)):6d} {t:8.2f} {near:12.4g} {far:11.4g} {near / far:8.2f} "
-                  f"{rel.mean() * t:10.4g}")
+                  f"{rel.mean() * t:10.4g} {near * t:10.4g}")
             sys.stdout.flush()
 
 

@@ -8,35 +8,10 @@
 
 namespace brume {
 
-namespace {
-
-// The centroid and area of the emitter: the triangle, or its rectangle (Light::partner).
-void emitterCentroid(const Scene& scene, const Light& light, Vec3* c, float* area) {
-    const Mesh& mesh = scene.mesh(light.mesh);
-    Vec3 sum(0.0f);
-    float total = 0;
-    // In the order of the halves' numbers: the same bits from either half.
-    const int first = light.partner >= 0 ? std::min(light.triangle, light.partner) : light.triangle;
-    for (int t : {first, light.partner >= 0 ? std::max(light.triangle, light.partner) : -1}) {
-        if (t < 0) continue;
-        const uint32_t* idx = &mesh.indices[3 * t];
-        const Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
-        const float a = 0.5f * length(cross(p1 - p0, p2 - p0));
-        sum += (p0 + p1 + p2) * (a / 3.0f);
-        total += a;
-    }
-    *c = total > 0 ? sum / total : sum;
-    *area = total;
-}
-
-}  // namespace
-
 bool solidAngleDistanceApplies(const Scene& scene, const Light& light, const MediumSegment& seg) {
-    if (light.kind != LightKind::Triangle) return false;
-    Vec3 c;
-    float area;
-    emitterCentroid(scene, light, &c, &area);
-    if (!(area > 0)) return false;
+    if (light.kind != LightKind::Triangle || !(light.emitterArea > 0)) return false;
+    const Vec3 c = light.emitterCentre;
+    const float area = light.emitterArea;
     const float along = std::min(seg.tEnd, std::max(0.0f, dot(c - seg.o, seg.d)));
     const Vec3 toC = c - (seg.o + seg.d * along);
     return dot(toC, toC) <= kSolidAngleReach * kSolidAngleReach * area;

@@ -172,6 +172,13 @@ float trianglePdf(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, bool
 
 bool samplesBySolidAngle(const Scene& scene, const Light& light, Vec3 ref, double* omega) {
     if (light.kind != LightKind::Triangle || scene.emitterSampling() != EmitterSampling::SolidAngle) return false;
+    // A cheap first test for small or far emitters, part of the rule: area over squared
+    // distance to the centre well below the lower limit.
+    const Vec3 toCentre = light.emitterCentre - ref;
+    if (light.emitterArea < 0.25f * float(kMinSphericalSolidAngle) * dot(toCentre, toCentre)) {
+        if (omega) *omega = 0;
+        return false;
+    }
     TriangleGeometry g = triangleOf(scene, light);
     double o = triangleSolidAngleSigned(ref, g.p0, g.p1, g.p2);
     if (light.partner >= 0) {

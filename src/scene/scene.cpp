@@ -117,6 +117,24 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         }
     }
     pairRectangles(desc_, lights_, firstTriangleLight_);
+    for (Light& l : lights_) {
+        if (l.kind != LightKind::Triangle) continue;
+        // In the order of the halves' numbers: the same bits from either half of a rectangle.
+        const Mesh& mesh = desc_.meshes[size_t(l.mesh)];
+        Vec3 sum(0.0f);
+        float total = 0;
+        const int first = l.partner >= 0 ? std::min(l.triangle, l.partner) : l.triangle;
+        for (int t : {first, l.partner >= 0 ? std::max(l.triangle, l.partner) : -1}) {
+            if (t < 0) continue;
+            const uint32_t* idx = &mesh.indices[3 * t];
+            const Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
+            const float a = 0.5f * length(cross(p1 - p0, p2 - p0));
+            sum += (p0 + p1 + p2) * (a / 3.0f);
+            total += a;
+        }
+        l.emitterCentre = total > 0 ? sum / total : sum;
+        l.emitterArea = total;
+    }
     std::vector<float> power(lights_.size());
     for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);

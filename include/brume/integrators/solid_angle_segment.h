@@ -22,7 +22,7 @@
 namespace brume {
 
 struct SolidAngleDistance {
-    static constexpr int kBins = 32;
+    static constexpr int kBins = 16;
     double delta = 0, D = 0, thetaA = 0, thetaB = 0;
     float a = 0, b = 0;         // the clipped segment
     double cdf[kBins + 1] = {};  // cumulative bin probabilities; cdf[kBins] = 1

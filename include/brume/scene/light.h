@@ -21,6 +21,9 @@ struct Light {
     // diagonal and make a rectangle), or -1. Seen from a point, the rectangle is sampled as one
     // by solid angle (light_sampling.h), whichever half was picked.
     int partner = -1;
+    // Triangle: the emitter's area-weighted centroid and area (of the rectangle with a partner).
+    Vec3 emitterCentre;
+    float emitterArea = 0;
 };
 
 // glTF spot attenuation: scale = 1/max(0.001, cosInner − cosOuter), offset = −cosOuter·scale,

@@ -52,7 +52,9 @@ float lightPdfByArea(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, V
 // reference point on the emitter's plane, close in): area sampling there (pbrt-v4's limits).
 constexpr double kMinSphericalSolidAngle = 3e-4, kMaxSphericalSolidAngle = 6.22;
 
-// Whether sampleLight samples `light` from `ref` by solid angle, and *omega that solid angle
+// Whether sampleLight samples `light` from `ref` by solid angle (not when its area over the
+// squared distance to its centre is below kMinSphericalSolidAngle/4: small or far, decided
+// without the solid angle), and *omega that solid angle
 // (of the whole rectangle for a half of one; front side only for one-sided emitters: 0 from
 // behind).
 bool samplesBySolidAngle(const Scene& scene, const Light& light, Vec3 ref, double* omega);

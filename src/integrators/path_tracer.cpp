@@ -150,6 +150,10 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
 // divided by it, 0) instead of inf/inf.
 float powerWeight(double self, const StrategyDensities& p) {
     if (!(self > 0)) return 0.0f;
+    if (std::isfinite(self)) {
+        const double sum = p.a * p.a + p.b * p.b + p.c * p.c + p.d * p.d;
+        if (std::isfinite(sum)) return float(self * self / sum);
+    }
     double sum = 0;
     bool seenSelf = false;
     for (double o : {p.a, p.b, p.c, p.d}) {

@@ -23,9 +23,11 @@ namespace brume {
 
 struct SolidAngleDistance {
     static constexpr int kBins = 16;
-    double delta = 0, D = 0, thetaA = 0, thetaB = 0;
-    float a = 0, b = 0;         // the clipped segment
-    double cdf[kBins + 1] = {};  // cumulative bin probabilities; cdf[kBins] = 1
+    // Left uninitialised until solidAngleDistanceOn fills them (the path tracer keeps a few
+    // per path, whether the scene has emissive triangles or not).
+    double delta, D, thetaA, thetaB;
+    float a, b;             // the clipped segment
+    double cdf[kBins + 1];  // cumulative bin probabilities; cdf[kBins] = 1
 };
 
 // Whether seg passes close enough to `light` (an emissive triangle, or its rectangle) for

@@ -55,6 +55,22 @@ std::optional<double> rayTriangle(D3 o, D3 w, D3 p0, D3 p1, D3 p2) {
     return t > 0 ? std::optional<double>(t) : std::nullopt;
 }
 
+// Histogram options for directions towards a polygon with corners `corners`, seen from o: cosθ
+// bins around the direction to `centre`, uniform from a little below the widest corner, and one
+// empty bin below.
+SphereHistogramOptions polygonHistogram(D3 o, D3 centre, std::initializer_list<D3> corners, uint64_t seed) {
+    const D3 axis = dnorm(centre - o);
+    double cosMin = 1;
+    for (const D3& p : corners) cosMin = std::min(cosMin, ddot(axis, dnorm(p - o)));
+    SphereHistogramOptions opt;
+    opt.seed = seed;
+    opt.axis = Vec3(float(axis.x), float(axis.y), float(axis.z));
+    const double lo = std::max(-1.0, cosMin - 0.02 * (1.0 - cosMin));
+    opt.cosThetaEdges = uniformEdges(20, lo, 1.0);
+    if (lo > -1.0) opt.cosThetaEdges.insert(opt.cosThetaEdges.begin(), -1.0);
+    return opt;
+}
+
 struct TriangleCase {
     const char* name;
     Vec3 x, p0, p1, p2;
@@ -100,15 +116,7 @@ TEST_CASE("spherical triangle samples are uniform in solid angle (chi-square)", 
     for (const TriangleCase& c : kTriangles) {
         const D3 o = d3(c.x), p0 = d3(c.p0), p1 = d3(c.p1), p2 = d3(c.p2);
         const double omega = girard(o, p0, p1, p2);
-        const D3 axis = dnorm((p0 + p1 + p2) * (1.0 / 3.0) - o);
-        double cosMin = 1;
-        for (const D3& p : {p0, p1, p2}) cosMin = std::min(cosMin, ddot(axis, dnorm(p - o)));
-        SphereHistogramOptions opt;
-        opt.seed = seed++;
-        opt.axis = Vec3(float(axis.x), float(axis.y), float(axis.z));
-        const double lo = std::max(-1.0, cosMin - 0.02 * (1.0 - cosMin));
-        opt.cosThetaEdges = uniformEdges(20, lo, 1.0);
-        if (lo > -1.0) opt.cosThetaEdges.insert(opt.cosThetaEdges.begin(), -1.0);
+        const SphereHistogramOptions opt = polygonHistogram(o, (p0 + p1 + p2) * (1.0 / 3.0), {p0, p1, p2}, seed++);
         long badOmega = 0;
         auto sampleFn = [&](Sample2 u) -> std::optional<Vec3> {
             Vec3 w;
@@ -262,15 +270,7 @@ TEST_CASE("spherical rectangle samples are uniform in solid angle (chi-square)",
         REQUIRE(makeSphericalRectangle(c.o, c.s, c.ex, c.ey, &rect));
         INFO(c.name << ": Ω = " << omega);
         CHECK(rect.solidAngle == Approx(omega).epsilon(1e-5));
-        const D3 axis = dnorm(s + ex * 0.5 + ey * 0.5 - o);
-        double cosMin = 1;
-        for (const D3& p : q) cosMin = std::min(cosMin, ddot(axis, dnorm(p - o)));
-        SphereHistogramOptions opt;
-        opt.seed = seed++;
-        opt.axis = Vec3(float(axis.x), float(axis.y), float(axis.z));
-        const double lo = std::max(-1.0, cosMin - 0.02 * (1.0 - cosMin));
-        opt.cosThetaEdges = uniformEdges(20, lo, 1.0);
-        if (lo > -1.0) opt.cosThetaEdges.insert(opt.cosThetaEdges.begin(), -1.0);
+        const SphereHistogramOptions opt = polygonHistogram(o, s + ex * 0.5 + ey * 0.5, {q[0], q[1], q[2], q[3]}, seed++);
         long offPlane = 0;
         const D3 n = dnorm(dcross(ex, ey));
         auto sampleFn = [&](Sample2 u) -> std::optional<Vec3> {
@@ -350,15 +350,7 @@ TEST_CASE("a quad that is a rectangle is sampled as one by solid angle", "[sampl
             const D3 wd = d3(w);
             return rayTriangle(o, wd, q[0], q[1], q[2]) || rayTriangle(o, wd, q[0], q[2], q[3]) ? 1.0 / omega : 0.0;
         };
-        const D3 axis = dnorm((q[0] + q[2]) * 0.5 - o);
-        double cosMin = 1;
-        for (const D3& p : q) cosMin = std::min(cosMin, ddot(axis, dnorm(p - o)));
-        SphereHistogramOptions opt;
-        opt.seed = 191 + k++;
-        opt.axis = Vec3(float(axis.x), float(axis.y), float(axis.z));
-        const double lo = std::max(-1.0, cosMin - 0.02 * (1.0 - cosMin));
-        opt.cosThetaEdges = uniformEdges(20, lo, 1.0);
-        if (lo > -1.0) opt.cosThetaEdges.insert(opt.cosThetaEdges.begin(), -1.0);
+        const SphereHistogramOptions opt = polygonHistogram(o, (q[0] + q[2]) * 0.5, {q[0], q[1], q[2], q[3]}, 191 + k++);
         HistogramResult r = sphereHistogramTest(sampleFn, pdfFn, int(opt.cosThetaEdges.size()) - 1, 24, 400000, opt);
         INFO(r.chi2.table);
         CHECK(r.chi2.pValue > alpha);

@@ -59,16 +59,12 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
     const float D = float(s.D), thetaA = float(s.thetaA);
     const Vec3 base = seg.o + seg.d * float(s.delta);
     const Vec3 n = cross(p1 - p0, p2 - p0);
-    // The midpoints' tangents by the addition formula tan(a + h) = (tan a + tan h)/(1 − tan a·tan h).
-    const float tanStep = std::tan(step);
-    float tanMid = std::tan(thetaA + 0.5f * step);
-    double q[SolidAngleDistance::kBins], sum = 0;
-    for (int i = 0; i < SolidAngleDistance::kBins; ++i) {
-        if (i > 0) {
-            const float den = 1.0f - tanMid * tanStep;
-            tanMid = den > 1e-3f ? (tanMid + tanStep) / den : std::tan(thetaA + (float(i) + 0.5f) * step);
-        }
-        const float u = D * tanMid;  // t − Δ
+    // An unbounded segment's last node just short of π/2 (tan = 1000), where q has its finite limit.
+    constexpr int N = SolidAngleDistance::kBins;
+    double q[N + 1], sum = 0;
+    for (int i = 0; i <= N; ++i) {
+        const float theta = std::min(thetaA + float(i) * step, 1.5697963f);  // π/2 − 10⁻³
+        const float u = D * std::tan(theta);  // t − Δ
         const Vec3 x = base + seg.d * u;
         // Van Oosterom–Strackee (spherical_triangle.h) in float, with a polynomial atan; the
         // front side only for a one-sided emitter (n·(x − p0) > 0).
@@ -82,39 +78,46 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
         }
         if (!doubleSided && dot(n, x - p0) <= 0) omega = 0;
         q[i] = double(omega) * (D * D + u * u) / D;
-        sum += q[i];
+        if (!std::isfinite(q[i])) return false;
+        sum += (i == 0 || i == N) ? 0.5 * q[i] : q[i];
     }
-    if (!(sum > 0) || !std::isfinite(sum)) return false;
-    const double floor = 0.1 * sum / SolidAngleDistance::kBins;
-    double total = sum + floor * SolidAngleDistance::kBins, acc = 0;
+    if (!(sum > 0)) return false;
+    // Piecewise linear in θ between the nodes, plus a tenth of the mean everywhere; normalised
+    // over [θa, θb]: node densities v_i, bin probabilities (v_i + v_(i+1))/2 · Δθ.
+    const double floor = 0.1 * sum / N, dTheta = (s.thetaB - s.thetaA) / N;
+    const double norm = 1.0 / ((sum + floor * N) * dTheta);
+    for (int i = 0; i <= N; ++i) s.node[i] = (q[i] + floor) * norm;
     s.cdf[0] = 0;
-    for (int i = 0; i < SolidAngleDistance::kBins; ++i) {
-        acc += q[i] + floor;
-        s.cdf[i + 1] = acc / total;
-    }
-    s.cdf[SolidAngleDistance::kBins] = 1.0;
+    for (int i = 0; i < N; ++i) s.cdf[i + 1] = s.cdf[i] + 0.5 * (s.node[i] + s.node[i + 1]) * dTheta;
+    s.cdf[N] = 1.0;
     return true;
 }
 
 float sampleSolidAngleDistance(const SolidAngleDistance& s, float uf) {
+    constexpr int N = SolidAngleDistance::kBins;
     const double u = uf;
     int i = 0;
-    while (i + 1 < SolidAngleDistance::kBins && s.cdf[i + 1] <= u) ++i;
-    const double width = s.cdf[i + 1] - s.cdf[i];
-    const double frac = width > 0 ? std::min(1.0, std::max(0.0, (u - s.cdf[i]) / width)) : 0.5;
-    const double theta = s.thetaA + (i + frac) * (s.thetaB - s.thetaA) / SolidAngleDistance::kBins;
+    while (i + 1 < N && s.cdf[i + 1] <= u) ++i;
+    const double dTheta = (s.thetaB - s.thetaA) / N;
+    // Within the bin the density runs linearly from a to b (in units of the bin, f ∈ [0, 1]):
+    // F(f) = (a·f + (b − a)·f²/2)·Δθ = u − cdf_i, solved in the form without cancellation.
+    const double a = s.node[i], b = s.node[i + 1];
+    const double r = std::max(0.0, (u - s.cdf[i]) / dTheta);
+    double f = (2.0 * r) / (a + std::sqrt(std::max(0.0, a * a + 2.0 * (b - a) * r)));
+    f = std::min(1.0, std::max(0.0, f));
+    const double theta = s.thetaA + (i + f) * dTheta;
     const double t = s.delta + s.D * std::tan(theta);
     return float(std::min(double(s.b), std::max(double(s.a), t)));
 }
 
 float solidAngleDistancePdf(const SolidAngleDistance& s, float tf) {
     if (!(tf >= s.a && tf <= s.b)) return 0.0f;
+    constexpr int N = SolidAngleDistance::kBins;
     const double u = double(tf) - s.delta;
-    const double theta = std::atan2(u, s.D);
-    const double span = s.thetaB - s.thetaA;
-    const int i = std::min(SolidAngleDistance::kBins - 1,
-                           std::max(0, int((theta - s.thetaA) / span * SolidAngleDistance::kBins)));
-    const double q = (s.cdf[i + 1] - s.cdf[i]) * SolidAngleDistance::kBins / span;
+    const double x = (std::atan2(u, s.D) - s.thetaA) / (s.thetaB - s.thetaA) * N;
+    const int i = std::min(N - 1, std::max(0, int(x)));
+    const double f = std::min(1.0, std::max(0.0, x - i));
+    const double q = s.node[i] + (s.node[i + 1] - s.node[i]) * f;
     return float(q * s.D / (s.D * s.D + u * u));
 }
 

@@ -8,8 +8,9 @@
 // and D as in equiangular.h, t = Δ + D·tanθ, dt = r²/D·dθ, r² = D² + (t − Δ)². Far from the
 // emitter Ω ≈ A·cos/r², so q(θ) ∝ Ω(x(t(θ)))·r²/D is bounded and smooth over (−π/2, π/2),
 // also for an unbounded segment; close to the emitter Ω → 2π and r²/D stays finite. q is
-// piecewise constant over kBins equal angle bins (values at the bin midpoints), plus a tenth
-// of its mean (a defensive share of plain equi-angular sampling), so
+// piecewise linear over kBins equal angle bins (values at the bin edges; an unbounded
+// segment's last just short of π/2), plus a tenth of its mean (a defensive share of plain
+// equi-angular sampling), so
 //   pdf(t) = q(θ(t)) · D / r²
 // is exact and costs one atan2 and a table lookup; building the table costs kBins solid
 // angles (in float: the table need only be a fixed function of the segment). For half of a
@@ -27,7 +28,8 @@ struct SolidAngleDistance {
     // per path, whether the scene has emissive triangles or not).
     double delta, D, thetaA, thetaB;
     float a, b;             // the clipped segment
-    double cdf[kBins + 1];  // cumulative bin probabilities; cdf[kBins] = 1
+    double node[kBins + 1];  // the density in θ at the bins' edges (linear in between)
+    double cdf[kBins + 1];   // cumulative bin probabilities; cdf[kBins] = 1
 };
 
 // Whether seg passes close enough to `light` (an emissive triangle, or its rectangle) for

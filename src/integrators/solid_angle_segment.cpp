@@ -33,15 +33,9 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
         for (int k = 0; k < 3; ++k) tri[h][k] = mesh.positions[idx[k]];
     }
     const Vec3 p0 = tri[0][0], p1 = tri[0][1], p2 = tri[0][2];
-    double area = 0;
-    Vec3 c(0.0f);
-    for (int h = 0; h < halves; ++h) {
-        const double a = 0.5 * double(length(cross(tri[h][1] - tri[h][0], tri[h][2] - tri[h][0])));
-        area += a;
-        c += (tri[h][0] + tri[h][1] + tri[h][2]) * float(a / 3.0);
-    }
+    const double area = light.emitterArea;
     if (!(area > 0)) return false;
-    c = c / float(area);  // area-weighted centroid
+    const Vec3 c = light.emitterCentre;  // area-weighted centroid
     const bool doubleSided = scene.material(light.mesh).doubleSided;
     SolidAngleDistance& s = *out;
     const Vec3 oc = c - seg.o;

@@ -39,8 +39,9 @@ struct MediumOrigin {
     float pFreeFlight = 0;  // p_ff(t) within the segment
 };
 
-// The solid-angle distance tables (strategy D) of one medium piece, per light: strategies C,
-// D and A (and B at the next hit) on the same piece ask for the same light's table.
+// The solid-angle distance tables (strategy D) of one medium piece, per light (one for both
+// halves of a rectangle): D and the weights of A on the same piece (and of B at the next hit)
+// ask for the same light's table.
 struct SolidAngleTables {
     static constexpr int kSlots = 4;
     int light[kSlots];
@@ -240,7 +241,6 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, phase};
     path.c = double(pick) * ls.pdf * pea;
     if (light.kind == LightKind::Triangle) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
-    if (mode != ConnectMode::Mis) path.d = 0;
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
     if (mode != ConnectMode::Mis) p.a = 0;  // equiangular, product: C replaces A
     float w = powerWeight(p.c, p);

@@ -57,23 +57,6 @@ void finishTriangleSample(const Scene& scene, const Light& light, const Triangle
     out->Le = scene.emission(hit, -wi);
 }
 
-// A point on an emissive triangle seen from ref: uniform in the subtended solid angle
-// (density 1/Ω) or uniform by area (density 1/A turned into dist²/(A·|cosθ_light|)).
-// The rectangle of a triangle light and its partner: corner s (the vertex of the lower-numbered
-// half that the other lacks) and the perpendicular edges from it (scene.cpp, pairRectangles).
-void rectangleOf(const Scene& scene, const Light& light, Vec3* s, Vec3* ex, Vec3* ey) {
-    const Mesh& mesh = scene.mesh(light.mesh);
-    const int first = std::min(light.triangle, light.partner), second = std::max(light.triangle, light.partner);
-    const uint32_t* i1 = &mesh.indices[3 * first];
-    const uint32_t* i2 = &mesh.indices[3 * second];
-    int lone = 0;
-    for (int k = 0; k < 3; ++k)
-        if (i1[k] != i2[0] && i1[k] != i2[1] && i1[k] != i2[2]) lone = k;
-    *s = mesh.positions[i1[lone]];
-    *ex = mesh.positions[i1[(lone + 1) % 3]] - *s;
-    *ey = mesh.positions[i1[(lone + 2) % 3]] - *s;
-}
-
 // The barycentrics (b0, b1) of p, on the triangle's plane; true if p lies in the triangle.
 bool barycentricInside(const TriangleGeometry& g, Vec3 p, float* b0, float* b1) {
     const float inv = 1.0f / (2.0f * g.area);
@@ -92,6 +75,8 @@ float rectanglePdf(const Scene& scene, const Light& light, double omega) {
     return float((self + double(d.pmf(pl))) / (self * omega));
 }
 
+// A point on an emissive triangle seen from ref: uniform in the subtended solid angle
+// (density 1/Ω) or uniform by area (density 1/A turned into dist²/(A·|cosθ_light|)).
 // omega > 0: by solid angle, the triangle (or its rectangle) subtending omega at ref; 0: by area.
 bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u, double omega, LightSample* out) {
     TriangleGeometry g = triangleOf(scene, light);
@@ -99,10 +84,8 @@ bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u,
     const bool doubleSided = scene.material(light.mesh).doubleSided;
     if (omega > 0 && light.partner >= 0) {
         // The whole rectangle by solid angle; the half the point lies on gives its radiance.
-        Vec3 s, ex, ey;
-        rectangleOf(scene, light, &s, &ex, &ey);
         SphericalRectangle rect;
-        if (!makeSphericalRectangle(ref, s, ex, ey, &rect)) return false;
+        if (!makeSphericalRectangle(ref, light.rectCorner, light.rectEdgeU, light.rectEdgeV, &rect)) return false;
         const Vec3 p = sampleSphericalRectangle(rect, u);
         Light half = light;
         TriangleGeometry h = g;
@@ -133,10 +116,8 @@ bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u,
         const float dist = dot(g.n, g.p0 - ref) / dot(g.n, wi);
         if (!(dist > 0) || !std::isfinite(dist)) return false;
         const Vec3 p = ref + wi * dist;
-        // Barycentrics of p: areas of the sub-triangles against the normal.
-        const float inv = 1.0f / (2.0f * g.area);
-        const float b0 = dot(cross(g.p1 - p, g.p2 - p), g.n) * inv;
-        const float b1 = dot(cross(g.p2 - p, g.p0 - p), g.n) * inv;
+        float b0, b1;
+        barycentricInside(g, p, &b0, &b1);
         out->pdf = float(1.0 / omega);
         finishTriangleSample(scene, light, g, p, std::max(0.0f, b0), std::max(0.0f, b1), wi, dist, out);
         return out->pdf > 0 && std::isfinite(out->pdf);

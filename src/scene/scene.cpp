@@ -39,8 +39,14 @@ static void pairRectangles(const SceneDescription& desc, std::vector<Light>& lig
             const Vec3 n2 = cross(mesh.positions[i2[1]] - mesh.positions[i2[0]], mesh.positions[i2[2]] - mesh.positions[i2[0]]);
             const Vec3 f1 = cross(mesh.positions[i1[1]] - mesh.positions[i1[0]], mesh.positions[i1[2]] - mesh.positions[i1[0]]);
             if (!(dot(f1, n2) > 0) || !(length(n1) > 0)) continue;
-            lights[size_t(firstLight[m] + t)].partner = t + 1;
-            lights[size_t(firstLight[m] + t + 1)].partner = t;
+            // The corner b (the lower-numbered half's own vertex) and the edges from it.
+            for (int k = 0; k < 2; ++k) {
+                Light& l = lights[size_t(firstLight[m] + t + k)];
+                l.partner = t + 1 - k;
+                l.rectCorner = b;
+                l.rectEdgeU = a - b;
+                l.rectEdgeV = c - b;
+            }
         }
     }
 }

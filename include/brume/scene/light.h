@@ -21,6 +21,7 @@ struct Light {
     // diagonal and make a rectangle), or -1. Seen from a point, the rectangle is sampled as one
     // by solid angle (light_sampling.h), whichever half was picked.
     int partner = -1;
+    Vec3 rectCorner, rectEdgeU, rectEdgeV;  // with a partner: the rectangle, perpendicular edges
     // Triangle: the emitter's area-weighted centroid and area (of the rectangle with a partner).
     Vec3 emitterCentre;
     float emitterArea = 0;

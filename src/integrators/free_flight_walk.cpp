@@ -3,7 +3,8 @@
 namespace brume {
 
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats, bool passThrough) {
+                    Spectrum channels, Spectrum tracking, const Sampler& sampler, uint32_t dims, PathStats& stats,
+                    bool passThrough) {
     Flight f;
     const Ray ray{seg.o, seg.d, seg.end};
     BoundaryWalk walk(scene, seg, media, stats);
@@ -21,7 +22,8 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
             const Medium& m = *piece.medium;
             const float uChannel = m.grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
             MediumSample ms = m.sampleDistance(ray, piece.t0, piece.t1, sampler.get1D(dims + dim::kDistance, repeat),
-                                               uChannel, channels, startIsPoint && piece.index == 0);
+                                               uChannel, m.heterogeneous() ? tracking : channels,
+                                               startIsPoint && piece.index == 0);
             f.weight *= ms.weight;
             f.fwd *= ms.fwd;
             f.rev *= ms.rev;

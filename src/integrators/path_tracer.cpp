@@ -7,6 +7,7 @@
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/solid_angle_segment.h"
 #include "brume/integrators/visibility.h"
+#include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/bsdf.h"
 #include "brume/scene/light_sampling.h"
@@ -80,12 +81,6 @@ struct Vertex {
         return Spectrum(p);
     }
 };
-
-// Channel probabilities in proportion to the throughput β (uniform if β is black).
-Spectrum throughputChannels(Spectrum beta) {
-    float sum = beta.x + beta.y + beta.z;
-    return sum > 0 ? beta / sum : Spectrum(1.0f / 3.0f);
-}
 
 bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.kind == LightKind::Directional; }
 // D: in mis mode, for emissive triangles sampled by solid angle, on segments that pass close

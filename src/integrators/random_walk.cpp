@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "brume/integrators/free_flight_walk.h"
+#include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
 
 namespace brume {
@@ -88,7 +89,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
-        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, sampler, dims, stats,
+        Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, throughputChannels(beta), sampler, dims, stats,
                                 count >= start.passFrom || (count == start.passFirstAt && !prev.delta));
         v.edgeEnd = f.firstEnd;
         if (f.end == Flight::End::Escape) return count;

@@ -16,9 +16,16 @@
 //
 // Densities for MIS (docs/mis.md, "heterogeneous media"): the true free-flight density
 // σt(x)·T(x) has no closed form, so every strategy uses the same deterministic stand-in,
-//     scatter at x:  σt_c(x)·exp(−k_c·τ̃),   pass:  exp(−k_c·τ̃),   τ̃ = ∫ ρ̃ dt over the piece,
-// ρ̃ the mean density of each brick crossed: the homogeneous formula with a coarse optical
-// depth. It is zero exactly where free flight cannot collide (ρ = 0), symmetric in the walk's
+//     scatter at x:  k̄·ρ(x)·exp(−k̄·τ̃),   pass:  exp(−k̄·τ̃),   τ̃ = ∫ ρ̃ dt over the piece,
+// ρ̃ the mean density of each brick crossed, k̄ the mean of the channels' extinction
+// coefficients: the homogeneous formula with a coarse optical depth. It is grey, the same in
+// every channel: tracking draws its tentative distances with one rate for all channels, and
+// which channel weighs the real/null choice (the caller's `channels`) then changes only the
+// throughput weights, never a density, so MIS over strategies and channels (bdpt's hero
+// channel) sees no channel ratio from a grid medium. (Per-channel stand-ins k_c·ρ·exp(−k_c·τ̃)
+// made the bidirectional tracer's channel weights favour whichever channel the stand-ins
+// favoured while its throughput followed the tracking's null weights: the coloured grid
+// furnace had a heavy tail, worst pixels 0.83 at 2048 spp.) It is zero exactly where free flight cannot collide (ρ = 0), symmetric in the walk's
 // direction, and additive over pieces, so the weights of every strategy still sum to one; its
 // quality only affects the variance. (The majorant's optical depth was the first choice: in
 // the strongly varying test furnace it made the stand-in far too small where bricks mix thick
@@ -60,18 +67,15 @@ struct LocalRay {
 
 LocalRay toLocal(const GridPlacement& g, const Ray& ray) { return {g.worldToLocal.point(ray.o), g.worldToLocal.vector(ray.d)}; }
 
-// The stand-in densities of a piece [t0, t1] whose brick-mean optical depth (grid units) is
-// tau: fwd, of a walk from t0 stopping at t1 (scattering there if t1 is a medium point, else
+// The (grey) stand-in densities of a piece [t0, t1] whose brick-mean optical depth (grid units)
+// is tau: fwd, of a walk from t0 stopping at t1 (scattering there if t1 is a medium point, else
 // passing); rev, of the walk the other way.
 void standIns(const DensityGrid& grid, const LocalRay& lr, Spectrum k, double tau, float t0, float t1,
               bool startIsPoint, bool endIsPoint, Channels* fwd, Channels* rev) {
-    const double rho1 = endIsPoint ? grid.lookup(lr.q0 + lr.dq * t1) : 0.0;
-    const double rho0 = startIsPoint ? grid.lookup(lr.q0 + lr.dq * t0) : 0.0;
-    for (int c = 0; c < 3; ++c) {
-        const double pass = std::exp(-double(k[c]) * tau);
-        (*fwd)[c] = endIsPoint ? k[c] * rho1 * pass : pass;
-        (*rev)[c] = startIsPoint ? k[c] * rho0 * pass : pass;
-    }
+    const double kbar = (double(k.x) + k.y + k.z) / 3;
+    const double pass = std::exp(-kbar * tau);
+    *fwd = Channels(endIsPoint ? kbar * grid.lookup(lr.q0 + lr.dq * t1) * pass : pass);
+    *rev = Channels(startIsPoint ? kbar * grid.lookup(lr.q0 + lr.dq * t0) * pass : pass);
 }
 
 // u is a multiple of 2^-24 (toUnitFloat), so 1 − u is exact and logf is as accurate as
@@ -92,12 +96,13 @@ MediumSample Medium::trackDistance(const Ray& ray, float t0, float t1, float uDi
     const Spectrum k = sigmaT() * density.scale, ks = sigmaS * density.scale;
     const float kmax = std::max(k.x, std::max(k.y, k.z));
     const bool grey = this->grey();
-    // The channel weights of the real/null choice: the caller's (the path throughput's in pt:
-    // Kutz et al.'s history-aware choice); a hero channel alone (bdpt) is mixed half and half
-    // with uniform weights, since with P = σt_h/μ̄ a tight majorant (ρ → m̄) drives the other
-    // channels' null weights (μ̄ − σt_c)/(μ̄ − σt_h) without bound (the coloured furnace at
-    // 2048 spp: worst pixel 0.76 against 0.86 mixed). Any choice keeps the weights unbiased
-    // for what was sampled, and the hero-channel MIS weights (stand-ins) still sum to one.
+    // The channel weights of the real/null choice: the caller's, the path throughput's in both
+    // tracers (Kutz et al.'s history-aware choice: Σ_c β_c cannot grow at an event, so no
+    // channel's weight compounds along the path). One-hot weights (a throughput with two black
+    // channels) are mixed half and half with uniform ones, since with P = σt_h/μ̄ a tight
+    // majorant (ρ → m̄) would drive the other channels' null weights (μ̄ − σt_c)/(μ̄ − σt_h)
+    // without bound. Any choice keeps the weights unbiased for what was sampled, and enters no
+    // density (the stand-ins are grey).
     const bool oneHot = std::max(channels.x, std::max(channels.y, channels.z)) >= 1.0f;
     const Spectrum w = oneHot ? (channels + Spectrum(1.0f / 3.0f)) * 0.5f : channels;
     Rng rng(hashQuery(ray, t0, t1, uDistance), 0x5eed);
@@ -145,7 +150,7 @@ MediumSample Medium::trackDistance(const Ray& ray, float t0, float t1, float uDi
     }
     ms.weight = W;
     standIns(grid, lr, k, tau, t0, tHit, startIsPoint, real, &ms.fwd, &ms.rev);
-    ms.pdf = grey ? ms.fwd[0] : ms.fwd.mix(channels);
+    ms.pdf = ms.fwd[0];  // grey stand-ins: every mixture of channels gives the same
     return ms;
 }
 

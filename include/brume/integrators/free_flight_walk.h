@@ -23,11 +23,14 @@ struct Flight {
 
 // Along seg (a ray: leaving(), end +∞). startIsPoint: it starts at a medium vertex (the
 // reverse walk would scatter there). channels: the probabilities with which each colour
-// channel drives the distance (Medium::sampleDistance). Numbers: dims + kDistance and
+// channel drives the distance in homogeneous media (Medium::sampleDistance: the hero
+// channel); tracking: the channel weights of the real/null choice in grid media, whose
+// tentative distances are the same for every channel and whose densities (stand-ins) are grey,
+// so that the choice enters no MIS weight and may follow the throughput. Numbers: dims + kDistance and
 // dims + kChannel, with the piece index as repeat. passThrough: no collision is sampled; every
 // medium piece is passed with weight T and forward density 1 (no numbers drawn).
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
-                    Spectrum channels, const Sampler& sampler, uint32_t dims, PathStats& stats,
+                    Spectrum channels, Spectrum tracking, const Sampler& sampler, uint32_t dims, PathStats& stats,
                     bool passThrough = false);
 
 }  // namespace brume

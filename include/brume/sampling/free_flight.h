@@ -20,6 +20,14 @@ float sampleFreeFlight(float sigmaT, float uDistance);
 // The channel c with probability weights[c] (non-negative, summing to 1) from u in [0, 1).
 int pickChannel(Spectrum weights, float u);
 
+// Channel weights in proportion to the throughput β (uniform if β is black): Kutz et al.'s
+// history-aware choice, under which Σ_c β_c cannot grow at a collision in a medium whose
+// albedo is at most 1 (docs/path-tracer.md, "coloured media").
+inline Spectrum throughputChannels(Spectrum beta) {
+    const float sum = beta.x + beta.y + beta.z;
+    return sum > 0 ? beta / sum : Spectrum(1.0f / 3.0f);
+}
+
 // Density of scattering at t, σt·exp(−σt·t), and of flying past t, exp(−σt·t). In double:
 // MIS weights multiply these over long edges, where float would underflow.
 double freeFlightPdfScatter(float sigmaT, float t);

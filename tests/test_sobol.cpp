@@ -87,6 +87,44 @@ TEST_CASE("sobol: scrambled and shuffled, every power-of-two prefix is still a n
     CHECK(Sampler(1, 0, 0, SamplerKind::Sobol).get2D(dim::kFilmJitter).u != 0.0f);
 }
 
+TEST_CASE("sobol: image-wide numbers are stratified over a pass's pixels and over the passes", "[sampler][sobol]") {
+    // Sampler::imageWide (the bidirectional tracer's light subpaths): the `count` samples of a
+    // pass, one per pixel, are consecutive points of one sequence. With count = 2^k they are a
+    // net in every 2D decision, and so are the passes' samples together; per-pixel numbers
+    // (Sampler(seed, pixel, pass)) of one pass are independent across pixels and are not.
+    const uint32_t d = dim::kLightStart + dim::kEmitDir;
+    for (int k : {4, 6, 8}) {
+        const uint64_t count = uint64_t(1) << k;
+        for (uint64_t pass : {0u, 1u, 5u}) {
+            std::vector<std::pair<double, double>> wide, perPixel;
+            for (uint64_t px = 0; px < count; ++px) {
+                Sample2 w = Sampler(3, px, pass, SamplerKind::Sobol).imageWide(px, count).get2D(d);
+                Sample2 p = Sampler(3, px, pass, SamplerKind::Sobol).get2D(d);
+                wide.push_back({w.u, w.v});
+                perPixel.push_back({p.u, p.v});
+            }
+            INFO("2^" << k << " pixels, pass " << pass);
+            CHECK(isNet(wide, k));
+            CHECK_FALSE(isNet(perPixel, k));  // the check can fail
+        }
+        // Two passes together: 2^(k+1) consecutive points, a net again.
+        std::vector<std::pair<double, double>> two;
+        for (uint64_t pass : {2u, 3u})
+            for (uint64_t px = 0; px < count; ++px) {
+                Sample2 w = Sampler(3, px, pass, SamplerKind::Sobol).imageWide(px, count).get2D(d);
+                two.push_back({w.u, w.v});
+            }
+        CHECK(isNet(two, k + 1));
+    }
+    // A function of (seed, pass, index) alone, whichever pixel's sampler asks; other seeds differ.
+    CHECK(Sampler(3, 10, 7, SamplerKind::Sobol).imageWide(5, 64).get1D(d) ==
+          Sampler(3, 99, 7, SamplerKind::Sobol).imageWide(5, 64).get1D(d));
+    CHECK(Sampler(4, 10, 7, SamplerKind::Sobol).imageWide(5, 64).get1D(d) !=
+          Sampler(3, 10, 7, SamplerKind::Sobol).imageWide(5, 64).get1D(d));
+    // Independent numbers stay independent: distinct indices, distinct numbers.
+    CHECK(Sampler(3, 0, 0).imageWide(1, 64).get1D(d) != Sampler(3, 0, 0).imageWide(2, 64).get1D(d));
+}
+
 TEST_CASE("sobol: each dimension is uniform over pixels and passes (chi-square)", "[sampler][sobol]") {
     // 64 bins, over 256 pixels × 64 passes (each pixel's own scramble), one decision at a time;
     // p < 1e-4 fails.

@@ -98,7 +98,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
                                           camera, stats);
     const uint64_t rays1 = stats.rays;
-    const int nLight = options_.lightSubpaths ? traceLightSubpath(scene, maxScatter, hero, sampler, light, stats) : 0;
+    // The light subpaths of a pass splat all over the image: their numbers come from one
+    // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
+    // are stratified over the light's emission and the image they reach.
+    const Sampler lightSampler = sampler.imageWide(uint64_t(std::min(int(fy), height - 1)) * uint64_t(width) +
+                                                       uint64_t(std::min(int(fx), width - 1)),
+                                                   uint64_t(width) * uint64_t(height));
+    const int nLight = options_.lightSubpaths ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
     stats.counters[kCameraWalkRays] += rays1 - rays0;
     stats.counters[kLightWalkRays] += stats.rays - rays1;
 

@@ -81,7 +81,19 @@ class Sampler {
 public:
     Sampler(uint64_t seed, uint64_t pixel, uint64_t pass, SamplerKind kind = SamplerKind::Independent)
         : Sampler(Keys{mixBits(seed ^ mixBits(pixel)), mixBits(pass ^ mixBits(seed + 0x5851F42D4C957F2DULL))}, pass,
-                  kind) {}
+                  kind, seed) {}
+
+    // The sampler of one sequence for the whole image, at index pass·count + index: for
+    // decisions whose outcome lands anywhere on the image rather than in this pixel (the
+    // bidirectional tracer's light subpaths, which splat where they reach the camera). With
+    // Sobol the `count` samples of a pass (index: the pixel, count: the pixels) are then
+    // consecutive points of one (0, 2)-sequence in every decision, stratified over the pass
+    // and over the passes, where one sequence per pixel leaves them independent across pixels.
+    // Deterministic in (seed, pass, index). Indices wrap at 2^32 (640 × 480 pixels: after
+    // 13981 passes), which costs stratification, never correctness.
+    Sampler imageWide(uint64_t index, uint64_t count) const {
+        return Sampler(seed_, kImageWidePixel, pass_ * count + index, kind_);
+    }
 
     // The number at dimension `dim`. `repeat` > 0: the repeat-th further draw of a decision
     // that may draw a variable number of times (invisible-boundary pieces, tracking steps),
@@ -117,9 +129,10 @@ private:
     struct Keys {
         uint64_t key, stream;  // of (seed, pixel) and of (seed, pass)
     };
-    Sampler(Keys k, uint64_t pass, SamplerKind kind)
+    Sampler(Keys k, uint64_t pass, SamplerKind kind, uint64_t seed)
         : base_(mixBits(k.key ^ k.stream)), pixelKey_(k.key), passReversed_(reverseBits(uint32_t(pass))), kind_(kind),
-          sequential_(k.key, k.stream) {}
+          sequential_(k.key, k.stream), seed_(seed), pass_(pass) {}
+    static constexpr uint64_t kImageWidePixel = ~0ULL;  // no pixel has this index
 
     // The (seed, pixel, pass) key is hashed once (constructor), here with the place a second
     // time (SplitMix64's finaliser): every key reaches the bits through the hash. (PCG32
@@ -141,6 +154,7 @@ private:
     uint32_t passReversed_;
     SamplerKind kind_;
     Rng sequential_;
+    uint64_t seed_, pass_;
 };
 
 }  // namespace brume

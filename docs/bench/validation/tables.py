@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""The issue's three tables from the validation runs (run_validation.sh): for each scene and
+transport (full, single scattering), from docs/bench/results/val_SCENE_{full,single}[_TAG].csv,
+  1. pt:mis against the path tracer's best single technique (density, equiangular, product);
+  2. in single scattering, bdpt:mis against pt:mis;
+  3. the default (auto) against the best fixed method, and the geometric mean of auto / best
+     over the four kinds the issue names (doorway, glass beam, fog room, g = 0.92 lamp).
+Efficiency = 1 / (relative MSE x seconds). Prints markdown.
+
+    python3 docs/bench/validation/tables.py [TAG]"""
+import csv
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+RESULTS = os.path.join(HERE, "..", "results")
+SCENES = ["val_thin_lamp", "val_forward", "val_side_panel", "val_doorway", "val_glass_beam", "val_fog_room"]
+KINDS = ["val_doorway", "val_glass_beam", "val_fog_room", "val_forward"]
+SINGLE_PT = ["pt:density", "pt:equiangular", "pt:product"]
+
+
+def load(scene, depth, tag):
+    path = os.path.join(RESULTS, "%s_%s%s.csv" % (scene, depth, "_" + tag if tag else ""))
+    if not os.path.exists(path):
+        return None
+    eff = {}
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            err, sec = float(r["rel_mse"]), float(r["seconds"])
+            eff[r["method"]] = 1.0 / (err * sec) if err > 0 and sec > 0 else 0.0
+    return eff
+
+
+def fmt(x):
+    return "%.3g" % x
+
+
+def main():
+    tag = sys.argv[1] if len(sys.argv) > 1 else ""
+    runs = {(s, d): load(s, d, tag) for s in SCENES for d in ("full", "single")}
+
+    print("**1. `pt --connect mis` against its best single technique** (target: within 1.25×)\n")
+    print("| scene | transport | best single | its efficiency | pt:mis | best / pt:mis | |")
+    print("|---|---|---|---|---|---|---|")
+    for (s, d), e in runs.items():
+        if not e or "pt:mis" not in e:
+            continue
+        best = max((m for m in SINGLE_PT if m in e), key=lambda m: e[m])
+        r = e[best] / e["pt:mis"] if e["pt:mis"] > 0 else math.inf
+        print("| %s | %s | %s | %s | %s | %.2f | %s |" % (s, d, best, fmt(e[best]), fmt(e["pt:mis"]), r,
+                                                       "met" if r <= 1.25 else "**not met**"))
+
+    print("\n**2. Single scattering: `bdpt --connect mis` against `pt --connect mis`** (target: within 1.5×)\n")
+    print("| scene | pt:mis | bdpt:mis | pt:mis / bdpt:mis | |")
+    print("|---|---|---|---|---|")
+    for s in SCENES:
+        e = runs[(s, "single")]
+        if not e or "bdpt:mis" not in e:
+            continue
+        r = e["pt:mis"] / e["bdpt:mis"] if e["bdpt:mis"] > 0 else math.inf
+        print("| %s | %s | %s | %.2f | %s |" % (s, fmt(e["pt:mis"]), fmt(e["bdpt:mis"]), r,
+                                              "met" if r <= 1.5 else "**not met**"))
+
+    print("\n**3. The default against the best fixed method** (target: within 1.25× everywhere; "
+          "above 1 in the geometric mean over the four kinds)\n")
+    print("| scene | transport | best fixed | its efficiency | auto | best / auto | |")
+    print("|---|---|---|---|---|---|---|")
+    logs = []
+    for (s, d), e in runs.items():
+        if not e or "auto" not in e:
+            continue
+        fixed = [m for m in e if m != "auto"]
+        best = max(fixed, key=lambda m: e[m])
+        r = e[best] / e["auto"] if e["auto"] > 0 else math.inf
+        if s in KINDS:
+            logs.append(math.log(e["auto"] / e[best]))
+        print("| %s | %s | %s | %s | %s | %.2f | %s |" % (s, d, best, fmt(e[best]), fmt(e["auto"]), r,
+                                                       "met" if r <= 1.25 else "**not met**"))
+    if logs:
+        g = math.exp(sum(logs) / len(logs))
+        print("\nGeometric mean of auto / best fixed over the four kinds (%d cells): %.2f (%s)" %
+              (len(logs), g, "met" if g > 1 else "**not met**"))
+
+
+if __name__ == "__main__":
+    main()

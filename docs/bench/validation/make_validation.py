@@ -24,31 +24,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "scenes"))
 sys.dont_write_bytecode = True
 import gltfgen as g  # noqa: E402
+from make_scenes import Geometry, TexturedBuilder, box_between as box  # noqa: E402
 
 
 def pnui(part):
     pos, nrm, uvs, idx = part
     return pos, idx, nrm, uvs
-
-
-class Geo:
-    def __init__(self):
-        self.positions, self.normals, self.uvs, self.indices = [], [], [], []
-
-    def add(self, part):
-        pos, nrm, uvs, idx = part
-        base = len(self.positions)
-        self.positions += pos
-        self.normals += nrm
-        self.uvs += uvs
-        self.indices += [base + i for i in idx]
-        return self
-
-
-def box(lo, hi):
-    c = tuple(0.5 * (a + b) for a, b in zip(lo, hi))
-    s = tuple(b - a for a, b in zip(lo, hi))
-    return g.box(s, c)
 
 
 def ground(b, y=0.0, size=60.0, albedo=0.35, z=-30.0):
@@ -103,12 +84,12 @@ def room_shell(geo, lo, hi):
     (x0, y0, z0), (x1, y1, z1) = lo, hi
     xc, yc, zc = 0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * (z0 + z1)
     hx, hy, hz = 0.5 * (x1 - x0), 0.5 * (y1 - y0), 0.5 * (z1 - z0)
-    geo.add(g.quad((xc, y0, zc), (0.0, 0.0, hz), (hx, 0.0, 0.0)))    # floor, +Y
-    geo.add(g.quad((xc, y1, zc), (hx, 0.0, 0.0), (0.0, 0.0, hz)))    # ceiling, -Y
-    geo.add(g.quad((xc, yc, z0), (hx, 0.0, 0.0), (0.0, hy, 0.0)))    # back, +Z
-    geo.add(g.quad((xc, yc, z1), (0.0, hy, 0.0), (hx, 0.0, 0.0)))    # front, -Z
-    geo.add(g.quad((x0, yc, zc), (0.0, hy, 0.0), (0.0, 0.0, hz)))    # left, +X
-    geo.add(g.quad((x1, yc, zc), (0.0, 0.0, hz), (0.0, hy, 0.0)))    # right, -X
+    geo.append(g.quad((xc, y0, zc), (0.0, 0.0, hz), (hx, 0.0, 0.0)))    # floor, +Y
+    geo.append(g.quad((xc, y1, zc), (hx, 0.0, 0.0), (0.0, 0.0, hz)))    # ceiling, -Y
+    geo.append(g.quad((xc, yc, z0), (hx, 0.0, 0.0), (0.0, hy, 0.0)))    # back, +Z
+    geo.append(g.quad((xc, yc, z1), (0.0, hy, 0.0), (hx, 0.0, 0.0)))    # front, -Z
+    geo.append(g.quad((x0, yc, zc), (0.0, hy, 0.0), (0.0, 0.0, hz)))    # left, +X
+    geo.append(g.quad((x1, yc, zc), (0.0, 0.0, hz), (0.0, hy, 0.0)))    # right, -X
 
 
 def val_doorway(path):
@@ -118,12 +99,12 @@ def val_doorway(path):
                  rotation=g.quat_look_at(eye, (0.0, 1.3, -4.0)))
     b.set_ambient(b.add_medium("fog", 0.06, 0.006, 0.3))
     wall = b.add_material("wall", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
-    shell = Geo()
+    shell = Geometry()
     room_shell(shell, (-3.0, 0.0, -9.0), (3.0, 2.8, 3.5))
     # The dividing wall at z = -2 (0.15 thick), with a doorway 0.9 m wide, 2.1 m high at x = 0.
     for lo, hi in [((-3.0, 0.0, -2.15), (-0.45, 2.8, -2.0)), ((0.45, 0.0, -2.15), (3.0, 2.8, -2.0)),
                    ((-0.45, 2.1, -2.15), (0.45, 2.8, -2.0))]:
-        shell.add(box(lo, hi))
+        shell.append(box(lo, hi))
     b.add_node("rooms", mesh=b.add_mesh("rooms", shell.positions, shell.indices, normals=shell.normals, uvs=shell.uvs,
                                         material=wall))
     # The lamp in the next room, off the line of sight through the door.
@@ -132,29 +113,24 @@ def val_doorway(path):
 
 
 def val_glass_beam(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
+    b = TexturedBuilder("docs/bench/validation/make_validation.py")
     eye = (2.2, 1.2, 2.0)
     b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=eye,
                  rotation=g.quat_look_at(eye, (0.0, 1.0, -1.0)))
     b.set_ambient(b.add_medium("fog", 0.07, 0.005, 0.25))
     ground(b, albedo=0.4, size=20.0, z=-5.0)
-    glass = len(b.materials)
-    b.materials.append({"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0,
-                                                                  "roughnessFactor": 0.0},
-                        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-                                       "KHR_materials_ior": {"ior": 1.5}}})
-    b.extensions_used.update(["KHR_materials_transmission", "KHR_materials_ior"])
+    glass = b.add_glass("glass", 1.5)
     ball = g.uv_sphere(0.45, 48, 24, center=(0.0, 1.6, -1.0))
     b.add_node("ball", mesh=b.add_mesh("ball", *pnui(ball), material=glass))
     # A sphere lamp (a point light seen through glass alone would be out of the path tracer's
     # reach) over the ball, in a shade that limits it to a cone.
     b.add_light("lamp", "point", (1.0, 0.92, 0.8), 40.0, translation=(0.0, 3.6, -1.0), radius=0.2)
     shade = b.add_material("shade", base_color=(0.1, 0.1, 0.1), metallic=0.0, roughness=1.0)
-    sg = Geo()
+    sg = Geometry()
     for lo, hi in [((-0.8, 3.3, -1.8), (-0.6, 4.0, -0.2)), ((0.6, 3.3, -1.8), (0.8, 4.0, -0.2)),
                    ((-0.8, 3.3, -1.8), (0.8, 4.0, -1.6)), ((-0.8, 3.3, -0.4), (0.8, 4.0, -0.2)),
                    ((-0.8, 4.0, -1.8), (0.8, 4.1, -0.2))]:
-        sg.add(box(lo, hi))
+        sg.append(box(lo, hi))
     b.add_node("shade", mesh=b.add_mesh("shade", sg.positions, sg.indices, normals=sg.normals, uvs=sg.uvs, material=shade))
     return b.write(path)
 
@@ -165,7 +141,7 @@ def val_fog_room(path):
     b.add_camera("camera", yfov=0.9, aspect_ratio=1.5, translation=eye, rotation=g.quat_look_at(eye, (0.5, 1.6, -5.0)))
     b.set_ambient(b.add_medium("fog", 0.15, 0.01, 0.1))
     wall = b.add_material("wall", base_color=(0.7, 0.7, 0.7), metallic=0.0, roughness=1.0)
-    shell = Geo()
+    shell = Geometry()
     room_shell(shell, (-3.5, 0.0, -7.0), (3.5, 3.2, 4.0))
     b.add_node("room", mesh=b.add_mesh("room", shell.positions, shell.indices, normals=shell.normals, uvs=shell.uvs,
                                        material=wall))

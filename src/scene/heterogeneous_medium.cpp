@@ -25,9 +25,9 @@
 // channel) sees no channel ratio from a grid medium. (Per-channel stand-ins k_c·ρ·exp(−k_c·τ̃)
 // made the bidirectional tracer's channel weights favour whichever channel the stand-ins
 // favoured while its throughput followed the tracking's null weights: the coloured grid
-// furnace had a heavy tail, worst pixels 0.83 at 2048 spp.) It is zero exactly where free flight cannot collide (ρ = 0), symmetric in the walk's
-// direction, and additive over pieces, so the weights of every strategy still sum to one; its
-// quality only affects the variance. (The majorant's optical depth was the first choice: in
+// furnace had a heavy tail, worst pixels 0.83 at 2048 spp.) It is zero exactly where free
+// flight cannot collide (ρ = 0), symmetric in the walk's direction, and additive over pieces,
+// so the weights of every strategy still sum to one; its quality only affects the variance. (The majorant's optical depth was the first choice: in
 // the strongly varying test furnace it made the stand-in far too small where bricks mix thick
 // and thin, which moved MIS weight to the wrong strategies: pt at 256 spp on 8×8 pixels had
 // pixel spreads 0.054–0.076 and worst pixels 1.14–1.37 with equi-angular connections, against

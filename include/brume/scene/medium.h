@@ -18,7 +18,9 @@
 // probability each channel drives the distance (its `channels` weights: the path throughput
 // in pt, the sample's hero channel in bdpt); the distance is sampled with that channel's
 // extinction and the weight divides by the mixture Σ_c w_c·p_c. The densities come back per
-// channel so that the caller can form any mixture it needs.
+// channel so that the caller can form any mixture it needs. In a grid medium the weights only
+// choose real or null collisions (both tracers pass the throughput's), and the densities are
+// grey stand-ins (heterogeneous_medium.cpp).
 #pragma once
 #include <memory>
 #include <string>

@@ -16,7 +16,6 @@ picked once, before any measurement, to differ from the bundled benchmark scenes
 Run: /usr/bin/python3 docs/bench/validation/make_validation.py OUTDIR
 """
 
-import math
 import os
 import sys
 
@@ -38,12 +37,16 @@ def ground(b, y=0.0, size=60.0, albedo=0.35, z=-30.0):
                                          material=m))
 
 
+def start(eye, target, yfov, aspect, fog, builder=g.GltfBuilder):
+    """A builder with the camera at eye looking at target and ambient fog (σs, σa, g)."""
+    b = builder("docs/bench/validation/make_validation.py")
+    b.add_camera("camera", yfov=yfov, aspect_ratio=aspect, translation=eye, rotation=g.quat_look_at(eye, target))
+    b.set_ambient(b.add_medium("fog", *fog))
+    return b
+
+
 def val_thin_lamp(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
-    eye = (0.4, 1.6, 1.0)
-    b.add_camera("camera", yfov=0.7, aspect_ratio=4.0 / 3.0, translation=eye,
-                 rotation=g.quat_look_at(eye, (-1.0, 2.0, -9.0)))
-    b.set_ambient(b.add_medium("fog", 0.02, 0.002, 0.0))
+    b = start((0.4, 1.6, 1.0), (-1.0, 2.0, -9.0), 0.7, 4.0 / 3.0, (0.02, 0.002, 0.0))
     ground(b)
     post = b.add_material("post", base_color=(0.3, 0.3, 0.3), metallic=0.0, roughness=1.0)
     b.add_node("post", mesh=b.add_mesh("post", *pnui(box((-0.55, 0.0, -7.2), (-0.35, 3.2, -7.0))), material=post))
@@ -52,22 +55,14 @@ def val_thin_lamp(path):
 
 
 def val_forward(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
-    eye = (0.0, 1.3, 0.0)
-    b.add_camera("camera", yfov=0.75, aspect_ratio=1.5, translation=eye,
-                 rotation=g.quat_look_at(eye, (0.8, 1.2, -10.0)))
-    b.set_ambient(b.add_medium("fog", 0.04, 0.004, 0.92))
+    b = start((0.0, 1.3, 0.0), (0.8, 1.2, -10.0), 0.75, 1.5, (0.04, 0.004, 0.92))
     ground(b, albedo=0.3)
     b.add_light("lamp", "point", (0.9, 0.95, 1.0), 15.0, translation=(1.5, 1.2, -10.0))
     return b.write(path)
 
 
 def val_side_panel(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
-    eye = (0.0, 1.5, 0.0)
-    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=eye,
-                 rotation=g.quat_look_at(eye, (0.3, 1.4, -6.0)))
-    b.set_ambient(b.add_medium("fog", 0.08, 0.008, 0.2))
+    b = start((0.0, 1.5, 0.0), (0.3, 1.4, -6.0), 0.8, 4.0 / 3.0, (0.08, 0.008, 0.2))
     ground(b, albedo=0.3)
     wall = b.add_material("wall", base_color=(0.4, 0.4, 0.4), metallic=0.0, roughness=1.0)
     b.add_node("wall", mesh=b.add_mesh("wall", *pnui(box((1.6, 0.0, -9.0), (1.8, 3.0, -2.0))), material=wall))
@@ -93,11 +88,7 @@ def room_shell(geo, lo, hi):
 
 
 def val_doorway(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
-    eye = (1.2, 1.5, 2.5)
-    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=eye,
-                 rotation=g.quat_look_at(eye, (0.0, 1.3, -4.0)))
-    b.set_ambient(b.add_medium("fog", 0.06, 0.006, 0.3))
+    b = start((1.2, 1.5, 2.5), (0.0, 1.3, -4.0), 0.8, 4.0 / 3.0, (0.06, 0.006, 0.3))
     wall = b.add_material("wall", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
     shell = Geometry()
     room_shell(shell, (-3.0, 0.0, -9.0), (3.0, 2.8, 3.5))
@@ -113,11 +104,7 @@ def val_doorway(path):
 
 
 def val_glass_beam(path):
-    b = TexturedBuilder("docs/bench/validation/make_validation.py")
-    eye = (2.2, 1.2, 2.0)
-    b.add_camera("camera", yfov=0.8, aspect_ratio=4.0 / 3.0, translation=eye,
-                 rotation=g.quat_look_at(eye, (0.0, 1.0, -1.0)))
-    b.set_ambient(b.add_medium("fog", 0.07, 0.005, 0.25))
+    b = start((2.2, 1.2, 2.0), (0.0, 1.0, -1.0), 0.8, 4.0 / 3.0, (0.07, 0.005, 0.25), builder=TexturedBuilder)
     ground(b, albedo=0.4, size=20.0, z=-5.0)
     glass = b.add_glass("glass", 1.5)
     ball = g.uv_sphere(0.45, 48, 24, center=(0.0, 1.6, -1.0))
@@ -136,10 +123,7 @@ def val_glass_beam(path):
 
 
 def val_fog_room(path):
-    b = g.GltfBuilder("docs/bench/validation/make_validation.py")
-    eye = (-1.5, 1.2, 3.0)
-    b.add_camera("camera", yfov=0.9, aspect_ratio=1.5, translation=eye, rotation=g.quat_look_at(eye, (0.5, 1.6, -5.0)))
-    b.set_ambient(b.add_medium("fog", 0.15, 0.01, 0.1))
+    b = start((-1.5, 1.2, 3.0), (0.5, 1.6, -5.0), 0.9, 1.5, (0.15, 0.01, 0.1))
     wall = b.add_material("wall", base_color=(0.7, 0.7, 0.7), metallic=0.0, roughness=1.0)
     shell = Geometry()
     room_shell(shell, (-3.5, 0.0, -7.0), (3.5, 3.2, 4.0))

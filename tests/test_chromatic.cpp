@@ -89,7 +89,8 @@ TEST_CASE("chromatic furnace: pt converges in every channel, every connect mode"
 // edge of the bound; at 512 spp on 24 × 16 pixels it was 0.980–1.000 over seeds 5–6 (0.9799 in
 // --connect density at seed 5 once the light subpaths were stratified over the image, their
 // means 0.999–1.008): a median of per-pixel values is pulled low by each pixel's skew, which
-// falls as 1/√spp. So the same samples as 12 × 8 pixels at 2048 spp. (General connections are made with probability 1/4 by default,
+// falls as 1/√spp. So the same samples as 12 × 8 pixels at 2048 spp. (General connections
+// are made with probability 1/4 by default,
 // which also makes a sample cheaper.) [heavy]: 100 s here; the sanitizer build leaves it out
 // (it passed there when written; the weight checker and the pt cases run the same code under
 // the sanitizers). Plain equi-angular is product sampling's g = 0 case and mis's part where

@@ -150,8 +150,8 @@ TEST_CASE("heterogeneous furnace: bdpt in every connect mode, every pixel is 1",
 // rare large values, and seed 10 of 20 failed at z = 5.1–5.2 in a high-variance corner
 // (pt and bdpt alike; unbiased, checked at 32768 spp with two seeds: errors uncorrelated
 // between seeds). 128 batches (8192 spp) passed on 20 seeds. Median within 2 %; worst
-// pixel: 1.37 was the largest a correct render reached at 2048 spp (pt, red), so 1.6. The seed is 9, or
-// BRUME_TEST_SEED where set: the test must pass on any seed, and is run on 20 of them when
+// pixel: 1.37 was the largest a correct render reached at 2048 spp (pt, red), so 1.6. The
+// seed is 9, or BRUME_TEST_SEED where set: the test must pass on any seed, and is run on 20 of them when
 // tracking or the weights change (docs/results.md). [heavy]: left out of the sanitizer run
 // (the grey furnaces run the same tracking code there).
 TEST_CASE("heterogeneous coloured furnace: every channel of every pixel is 1", "[heterogeneous][chromatic][oracle][heavy]") {

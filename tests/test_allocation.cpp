@@ -23,6 +23,7 @@ namespace {
 
 constexpr double kZ = 4.5;
 constexpr int kBatches = 32;
+constexpr int kDecided = AllocationPlanner::kLastDecisionPass + 1;  // passes until auto has chosen for good
 
 BdptOptions autoOptions(int maxDepth) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
@@ -92,13 +93,13 @@ Rendered renderAuto(const Scene& scene, int W, int H, int spp, int threads, int 
     return Rendered{film.rgb(), integrator.planner()->decided() ? integrator.planner()->chosen().name() : "undecided"};
 }
 
-// Renders 8 spp (past the pilot) and returns the planner that chose.
+// Renders past the pilot and the duel and returns the planner that chose.
 const AllocationPlanner& plan(const Scene& scene, BdptIntegrator& integrator, int W, int H) {
     Film film(W, H);
     RenderOptions o;
     o.width = W;
     o.height = H;
-    o.spp = 8;
+    o.spp = kDecided;
     render(scene, integrator, o, film);
     return *integrator.planner();
 }
@@ -110,7 +111,7 @@ TEST_CASE("auto: furnace, every pixel is 1 (pilot and chosen passes)", "[auto][o
         auto scene = loadTestScene(file);
         BdptIntegrator integrator(autoOptions(-1));
         std::string where;
-        double z = furnaceZ(*scene, integrator, 12, 7, &where);
+        double z = furnaceZ(*scene, integrator, kDecided, 7, &where);
         INFO(file << ": chose " << integrator.planner()->chosen().name() << "; worst " << where << " (z = " << z << ")");
         CHECK(integrator.planner()->decided());
         CHECK(z < kZ);
@@ -176,9 +177,9 @@ TEST_CASE("auto falls back to the path tracer for single scattering in open fog"
 
 TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
-    Rendered one = renderAuto(*scene, 40, 30, 9, 1);
-    Rendered two = renderAuto(*scene, 40, 30, 9, 2);
-    Rendered three = renderAuto(*scene, 40, 30, 9, 3);
+    Rendered one = renderAuto(*scene, 40, 30, kDecided + 2, 1);
+    Rendered two = renderAuto(*scene, 40, 30, kDecided + 2, 2);
+    Rendered three = renderAuto(*scene, 40, 30, kDecided + 2, 3);
     CHECK(one.chosen != "undecided");
     CHECK(one.chosen == two.chosen);
     CHECK(one.chosen == three.chosen);
@@ -186,13 +187,13 @@ TEST_CASE("auto chooses the same and renders the same bits for any thread count"
     CHECK(std::memcmp(one.rgb.data(), three.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
 }
 
-// Stopped at any pass (in the pilot, or after the choice), its state saved and loaded into a
-// new tracer: the render continues to the same bits.
+// Stopped at any pass (in the pilot, in the duel, or after the choice), its state saved and
+// loaded into a new tracer: the render continues to the same bits.
 TEST_CASE("auto's state carries a render across a stop bit for bit", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
-    const int W = 40, H = 30, spp = 9;
+    const int W = 40, H = 30, spp = kDecided + 2;
     Rendered straight = renderAuto(*scene, W, H, spp, 2);
-    for (int stop : {1, 3, 4, 5}) {
+    for (int stop : {1, 3, 4, 5, 11, 12, 13, kDecided - 1, kDecided, kDecided + 1}) {
         RenderOptions o;
         o.width = W;
         o.height = H;

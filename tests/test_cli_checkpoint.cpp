@@ -151,16 +151,17 @@ TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as str
     }
 }
 
-// auto's pilot ends after its fourth pass (allocation_planner.h): stopped in the pilot, just after the
-// choice and after a pass of the chosen allocation, it resumes to the same bytes.
+// auto's pilot ends after its fourth pass and its duel after its twentieth (allocation_planner.h):
+// stopped in the pilot, just after the pilot's choice, in the duel, and after a pass of the final
+// choice, it resumes to the same bytes.
 TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[cli][checkpoint][auto]") {
     TempDir dir;
-    const Args common = {data("bdpt_quad_fogbox.gltf"), "--res", "40x30", "--spp", "9"};
+    const Args common = {data("bdpt_quad_fogbox.gltf"), "--res", "40x30", "--spp", "22"};
     const std::string ckpt = dir / "c.ckpt";
     Result r = run(common + Args{"-o", dir / "straight.pfm"});
     REQUIRE(r.code == 0);
     CHECK(r.out.find("allocation: ") != std::string::npos);
-    for (const char* stop : {"3", "4", "5"}) {
+    for (const char* stop : {"3", "4", "5", "12", "20", "21"}) {
         INFO("stopped after " << stop << " passes");
         REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
         r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});

@@ -456,8 +456,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         plan.firstPass = donePasses;
         plan.lastPass = a.seconds > 0 ? -1 : a.spp;
         plan.timeBudget = a.seconds;
-        // auto decides after its pilot passes: every rank renders them, so all decide alike.
-        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kDecisionPass + 1) : donePasses;
+        // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
+        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1) : donePasses;
         options.progress = false;
         auto interrupted = [&] {
             if (lead && a.stopAfterPasses > 0 && film.passes() - donePasses >= a.stopAfterPasses) ::raise(SIGTERM);

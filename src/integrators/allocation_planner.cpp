@@ -26,7 +26,10 @@ AllocationPlanner::AllocationPlanner(ConnectMode connect) : candidates_(candidat
 }
 
 const BdptAllocation& AllocationPlanner::allocationFor(int pass) const {
-    return pass > kDecisionPass && chosen_ >= 0 ? candidates_[size_t(chosen_)] : candidates_[size_t(pilot_)];
+    if (pass <= kDecisionPass || pilotChoice_ < 0) return candidates_[size_t(pilot_)];
+    if (dueling() && pass <= kLastDecisionPass)
+        return candidates_[size_t(duelists_[(pass - kDuelStart) / AllocationDuel::kPasses])];
+    return candidates_[size_t(chosen_ >= 0 ? chosen_ : pilotChoice_)];
 }
 
 // The pass's own image (samples and splats), 3 floats per pixel.
@@ -40,7 +43,16 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 }
 
 void AllocationPlanner::endPass(const PassSummary& s) {
-    if (!s.complete || chosen_ >= 0 || !s.radiance || s.pass > kDecisionPass) return;
+    if (!s.complete || !s.radiance) return;
+    if (s.pass > kDecisionPass) {
+        if (dueling() && chosen_ < 0 && s.pass <= kLastDecisionPass && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
+            std::vector<float> image;
+            passImage(s, image);
+            duelPass(s.pass, image);
+        }
+        return;
+    }
+    if (pilotChoice_ >= 0) return;
     if (s.pass == 0) {
         width_ = s.width;
         height_ = s.height;
@@ -159,25 +171,86 @@ void AllocationPlanner::decide() {
         e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);
     }
-    chosen_ = best;
+    pilotChoice_ = best;
     if (std::getenv("BRUME_DEBUG_PLANNER"))
         std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_[0] * scale);
+    startDuel();
+}
+
+// The pilot's estimate cannot see what the sampler gives each candidate (its passes use
+// independent numbers). Where it chose a bidirectional allocation and rated the path tracer
+// within kDuelRange of it, the two render kDuelPasses passes each with the render's sampler
+// (allocation_duel.h) and the better at equal cost wins. Outside that range, or where the
+// path tracer is biased (no light subpaths where only they see the light: its estimate is 0),
+// the pilot's choice stands.
+void AllocationPlanner::startDuel() {
+    constexpr double kDuelRange = 16;
+    duelists_[0] = duelists_[1] = -1;
+    chosen_ = pilotChoice_;
+    const Estimate& mine = estimates_[size_t(pilotChoice_)];
+    if (candidates_[size_t(pilotChoice_)].pathTracer) return;
+    for (size_t j = 0; j < candidates_.size(); ++j)
+        if (candidates_[j].pathTracer && estimates_[j].efficiency > 0 && estimates_[j].efficiency * kDuelRange >= mine.efficiency) {
+            duelists_[0] = pilotChoice_;
+            duelists_[1] = int(j);
+            chosen_ = -1;
+        }
+}
+
+void AllocationPlanner::duelPass(int pass, const std::vector<float>& image) {
+    const int k = pass - kDuelStart, c = k / AllocationDuel::kPasses, i = k % AllocationDuel::kPasses;
+    if (duel_.passes(c) != i || (c == 1 && duel_.passes(0) != AllocationDuel::kPasses)) return;  // (in order only)
+    duel_.addPass(c, i, image, weights_);
+    if (c == 1 && i == AllocationDuel::kPasses - 1) decideDuel();
+}
+
+void AllocationPlanner::decideDuel() {
+    const int top = AllocationDuel::kLevels - 1, batch = 1 << top;
+    double efficiency[2];
+    for (int c = 0; c < 2; ++c) {
+        const double cost = estimates_[size_t(duelists_[c])].cost;
+        duelVariance_[c] = duel_.variance(c, top);
+        efficiency[c] = duelVariance_[c] > 0 ? 1.0 / (duelVariance_[c] * batch * cost) : 0.0;
+        if (std::getenv("BRUME_DEBUG_PLANNER"))
+            std::fprintf(stderr, "duel: %s: V(1) %g V(2) %g V(4) %g, mean %g, cost %g, efficiency %g\n",
+                         candidates_[size_t(duelists_[c])].name().c_str(), duel_.variance(c, 0), duel_.variance(c, 1),
+                         duel_.variance(c, 2), duel_.mean(c), cost, efficiency[c]);
+    }
+    // The path tracer must see the light the pilot's choice sees (10 %, as its probe): black
+    // where only light subpaths reach would look noiseless.
+    const bool sawAll = duel_.mean(1) >= 0.9 * duel_.mean(0);
+    chosen_ = sawAll && efficiency[1] > efficiency[0] ? duelists_[1] : duelists_[0];
 }
 
 std::string AllocationPlanner::summaryLine() const {
-    if (chosen_ < 0) return "allocation: pilot (" + candidates_[size_t(pilot_)].name() + "), not yet decided";
+    if (pilotChoice_ < 0) return "allocation: pilot (" + candidates_[size_t(pilot_)].name() + "), not yet decided";
+    if (chosen_ < 0)
+        return "allocation: " + candidates_[size_t(duelists_[0])].name() + " against " + candidates_[size_t(duelists_[1])].name() +
+               " in a duel, not yet decided";
     const Estimate& e = estimates_[size_t(chosen_)];
     const Estimate& p = estimates_[size_t(pilot_)];
-    char buf[256];
+    char buf[512];
     std::snprintf(buf, sizeof buf, "allocation: %s (estimated efficiency %.2fx the pilot's: variance %.2fx, cost %.2fx)",
                   candidates_[size_t(chosen_)].name().c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0,
                   p.variance > 0 ? e.variance / p.variance : 0.0, p.cost > 0 ? e.cost / p.cost : 0.0);
-    return buf;
+    std::string out = buf;
+    if (dueling()) {
+        // Efficiency of each, from the duel: 1 / (V(4 passes) · cost).
+        const int won = chosen_ == duelists_[0] ? 0 : 1;
+        auto eff = [&](int c) {
+            return duelVariance_[c] > 0 ? 1.0 / (duelVariance_[c] * estimates_[size_t(duelists_[c])].cost) : 0.0;
+        };
+        std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency%s",
+                      candidates_[size_t(duelists_[1 - won])].name().c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
+                      won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
+        out += buf;
+    }
+    return out;
 }
 
 std::string AllocationPlanner::report() const {
     std::string out = summaryLine() + "\n";
-    if (chosen_ < 0) return out;
+    if (pilotChoice_ < 0) return out;
     const Estimate& p = estimates_[size_t(pilot_)];
     std::vector<size_t> order(candidates_.size());
     for (size_t j = 0; j < order.size(); ++j) order[j] = j;
@@ -201,15 +274,15 @@ std::string AllocationPlanner::report() const {
         const Estimate& e = estimates_[j];
         std::snprintf(buf, sizeof buf, "  %-24s %12.3g %10.3f %12.3g%s\n", candidates_[j].name().c_str(),
                       e.variance / p.variance, e.cost / p.cost, e.efficiency / p.efficiency,
-                      int(j) == chosen_ ? "   chosen" : int(j) == pilot_ ? "   pilot" : "");
+                      int(j) == chosen_ ? "   chosen" : int(j) == pilotChoice_ ? "   pilot's choice" : int(j) == pilot_ ? "   pilot" : "");
         out += buf;
     }
     return out;
 }
 
-// State: "BAP1", then i32 chosen, collected, passes, width, height; u64 samples; f64 × kSums
-// moments; u64 × kCounters counters; then (u64 n, n values) for sum (f64), sumSq (f64),
-// weights (f32).
+// State: "BAP2", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
+// height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
+// for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save).
 namespace {
 template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
 template <class T> void putVector(std::string& out, const std::vector<T>& v) {
@@ -238,8 +311,11 @@ struct Reader {
 }  // namespace
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP1";
+    std::string out = "BAP2";
+    put(out, int32_t(pilotChoice_));
     put(out, int32_t(chosen_));
+    put(out, int32_t(duelists_[0]));
+    put(out, int32_t(duelists_[1]));
     put(out, int32_t(collected_));
     put(out, int32_t(passes_));
     put(out, int32_t(width_));
@@ -250,16 +326,22 @@ std::string AllocationPlanner::saveState() const {
     putVector(out, sum_);
     putVector(out, sumSq_);
     putVector(out, weights_);
+    duel_.save(out);
     return out;
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP1") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP2") != 0) throw std::runtime_error("not an allocation state");
     Reader r{state, 4};
-    const int chosen = r.get<int32_t>(), collected = r.get<int32_t>(), passes = r.get<int32_t>();
+    const int pilotChoice = r.get<int32_t>(), chosen = r.get<int32_t>();
+    const int duelist0 = r.get<int32_t>(), duelist1 = r.get<int32_t>();
+    const int collected = r.get<int32_t>(), passes = r.get<int32_t>();
     const int width = r.get<int32_t>(), height = r.get<int32_t>();
-    if (chosen < -1 || chosen >= int(candidates_.size()) || collected < 0 || collected > kCollectPasses || passes < 0 ||
-        passes > kDecisionPass + 1 || width < 0 || height < 0 || width > (1 << 16) || height > (1 << 16))
+    const int n = int(candidates_.size());
+    auto index = [n](int j) { return j >= -1 && j < n; };
+    if (!index(pilotChoice) || !index(chosen) || !index(duelist0) || !index(duelist1) || collected < 0 ||
+        collected > kCollectPasses || passes < 0 || passes > kDecisionPass + 1 || width < 0 || height < 0 ||
+        width > (1 << 16) || height > (1 << 16) || (pilotChoice >= 0 && collected != kCollectPasses))
         throw std::runtime_error("allocation state is malformed");
     samples_ = r.get<uint64_t>();
     for (double& m : moments_) m = r.get<double>();
@@ -268,15 +350,19 @@ void AllocationPlanner::loadState(const std::string& state) {
     sum_ = r.getVector<double>(values);
     sumSq_ = r.getVector<double>(values);
     weights_ = r.getVector<float>(values);
+    duel_.load(state, r.at, values);
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
-    chosen_ = -1;
+    pilotChoice_ = chosen_ = -1;
     collected_ = collected;
     passes_ = passes;
     width_ = width;
     height_ = height;
-    if (chosen >= 0) {
-        if (collected_ == kCollectPasses) decide();  // the estimates again, from the same numbers
-        chosen_ = chosen;
+    if (pilotChoice >= 0) {
+        decide();  // the estimates again, from the same numbers, and whether to duel
+        if (pilotChoice_ != pilotChoice || duelists_[0] != duelist0 || duelists_[1] != duelist1)
+            throw std::runtime_error("allocation state is malformed");
+        if (dueling() && duel_.passes(1) == AllocationDuel::kPasses) decideDuel();
+        if (chosen_ != chosen) throw std::runtime_error("allocation state is malformed");
     }
 }
 

@@ -1,0 +1,79 @@
+#include "brume/integrators/allocation_duel.h"
+
+#include <cstring>
+#include <stdexcept>
+
+namespace brume {
+
+void AllocationDuel::addPass(int c, int index, const std::vector<float>& image, const std::vector<float>& weights) {
+    if (index == 0)
+        for (std::vector<float>& f : first_) f.assign(image.size(), 0.0f);
+    for (size_t i = 0; i < image.size(); ++i) mean_[c] += double(weights[i]) * double(image[i]);
+    // The batch of 2^level passes that this pass completes, level by level: a first half is
+    // kept; a second half is compared with it, and the two make the next level's batch.
+    std::vector<float> batch = image;
+    for (int level = 0; level < kLevels; ++level) {
+        const int size = 1 << level;
+        if ((index + 1) % size != 0) break;
+        if ((index / size) % 2 == 0) {
+            first_[level] = batch;
+            break;
+        }
+        double sum = 0;
+        for (size_t i = 0; i < batch.size(); ++i) {
+            const double d = (double(batch[i]) - double(first_[level][i])) / size;  // of the means
+            sum += double(weights[i]) * d * d;
+            batch[i] += first_[level][i];
+        }
+        squares_[c][level] += sum;
+    }
+    passes_[c] = index + 1;
+}
+
+// Pairs of 2^level-pass batches in kPasses passes: kPasses / 2^(level+1); each gives 2·V.
+double AllocationDuel::variance(int c, int level) const {
+    const int pairs = kPasses >> (level + 1);
+    return squares_[c][level] / (2.0 * pairs);
+}
+
+// State: i32 passes × 2, f64 squares × 2·kLevels, f64 mean × 2, then per level (u64 n, n f32).
+namespace {
+template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+template <class T> T get(const std::string& s, size_t& at) {
+    if (s.size() - at < sizeof(T)) throw std::runtime_error("allocation state is truncated");
+    T v;
+    std::memcpy(&v, s.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+}
+}  // namespace
+
+void AllocationDuel::save(std::string& out) const {
+    for (int p : passes_) put(out, int32_t(p));
+    for (const auto& row : squares_)
+        for (double v : row) put(out, v);
+    for (double m : mean_) put(out, m);
+    for (const std::vector<float>& f : first_) {
+        put(out, uint64_t(f.size()));
+        out.append(reinterpret_cast<const char*>(f.data()), f.size() * sizeof(float));
+    }
+}
+
+void AllocationDuel::load(const std::string& s, size_t& at, size_t values) {
+    for (int& p : passes_) {
+        p = get<int32_t>(s, at);
+        if (p < 0 || p > kPasses) throw std::runtime_error("allocation state is malformed");
+    }
+    for (auto& row : squares_)
+        for (double& v : row) v = get<double>(s, at);
+    for (double& m : mean_) m = get<double>(s, at);
+    for (std::vector<float>& f : first_) {
+        const uint64_t n = get<uint64_t>(s, at);
+        if ((n != 0 && n != values) || (s.size() - at) / sizeof(float) < n) throw std::runtime_error("allocation state is malformed");
+        f.resize(n);
+        std::memcpy(f.data(), s.data() + at, n * sizeof(float));
+        at += n * sizeof(float);
+    }
+}
+
+}  // namespace brume

@@ -5,12 +5,15 @@
 // Estimates are batch means of 32 renders, |z| < 4.5 as in test_bdpt_oracles.cpp.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/bdpt_allocation.h"
+#include "brume/render/renderer.h"
 #include "brume/scene/camera_importance.h"
 #include "support/block_z.h"
 #include "support/film_estimates.h"
@@ -173,6 +176,42 @@ TEST_CASE("auto falls back to the path tracer for single scattering in open fog"
     INFO(p.report());
     REQUIRE(p.decided());
     CHECK(p.chosen().pathTracer);
+}
+
+// The image leaves out the pilot's and the duel loser's passes once the others are
+// kLeftOutRatio times as many (with Sobol numbers): exactly those sums, and not before.
+TEST_CASE("auto's image leaves out its pilot and the duel's loser once they are few", "[auto]") {
+    auto scene = loadTestScene("single_near.gltf");
+    const int W = 24, H = 16;
+    for (SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Independent}) {
+        BdptIntegrator integrator(autoOptions(1));
+        Film film(W, H);
+        RenderOptions o;
+        o.width = W;
+        o.height = H;
+        o.sampler = kind;
+        int done = 0;
+        for (int spp : {kDecided, 59, 60, 70}) {
+            o.spp = spp - done;
+            render(*scene, integrator, o, film);
+            done = spp;
+            const Integrator::LeftOutPasses out = integrator.leftOut();
+            INFO(integrator.planner()->summaryLine() << "; " << spp << " passes, " << out.passes << " left out");
+            REQUIRE(integrator.planner()->decided());
+            REQUIRE(out.passes > 0);
+            const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, kind);
+            const bool leaves = kind == SamplerKind::Sobol && spp - out.passes >= kLeftOutRatio * out.passes;
+            CHECK((image == all) == !leaves);
+            if (!leaves) continue;
+            // image · (N − k) = all · N − (the left-out sums), to float rounding.
+            double worst = 0;
+            for (size_t i = 0; i < all.size(); ++i) {
+                const double expect = (double(all[i]) * spp - fromFixed((*out.sums)[i])) / (spp - out.passes);
+                worst = std::max(worst, std::abs(image[i] - expect) / (std::abs(expect) + 1e-3));
+            }
+            CHECK(worst < 1e-5);
+        }
+    }
 }
 
 TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {

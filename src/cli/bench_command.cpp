@@ -621,7 +621,7 @@ int runBench(const std::vector<std::string>& argv) {
             Film film(res.width, res.height);
             RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
             if (interrupted()) return kExitInterrupted;
-            reference = film.rgb();
+            reference = finalImage(film, *integrator, options.sampler);
             writeImage(referencePath, res.width, res.height, reference);
             writeTextFile(recordPath, recordText(wanted));
             std::printf("reference: rendered in %.2f s, cached in %s\n", stats.seconds, recordPath.c_str());
@@ -678,7 +678,7 @@ int runBench(const std::vector<std::string>& argv) {
                              "brume: warning: %s at %g s: the %d threads were busy only %.0f%% of the time; "
                              "is the machine loaded? its timing is unreliable\n",
                              method->name.c_str(), budget, workers, 100 * busy);
-            std::vector<float> image = film.rgb();
+            std::vector<float> image = finalImage(film, *integrator, options.sampler);
             Row row{method, budget, stats.seconds, stats.passes, compareImages(image, reference), 0};
             double cost = row.error.relMse * row.seconds;
             row.efficiency = cost > 0 ? 1 / cost : HUGE_VAL;

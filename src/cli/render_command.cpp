@@ -500,7 +500,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             checkpointError = std::current_exception();
         }
     }
-    writeImage(a.output, res.width, res.height, film.rgb());
+    writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler));
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
     // With auto, the strategy images are those of the allocation it chose.

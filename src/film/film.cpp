@@ -15,23 +15,7 @@ Film::Film(int width, int height) : width_(width), height_(height) {
     sum_.assign(3 * size_t(width) * size_t(height), Sum(0));
 }
 
-// v = M·2^(e−24) with M the 24-bit mantissa (frexp: v = m·2^e, m in [0.5, 1)); in units of
-// 2^-64 that is M·2^(e+40): a left shift, or a right shift that truncates towards zero.
-Film::Sum Film::toFixed(float v) {
-    if (v == 0 || !std::isfinite(v)) return 0;  // (the renderer drops non-finite values before)
-    int e;
-    const float m = std::frexp(std::abs(v), &e);
-    const Sum M = Sum(int64_t(std::ldexp(m, 24)));  // exact: m has 24 significant bits
-    const int shift = e + 40;
-    Sum q;
-    if (shift >= 0)
-        q = shift <= 102 ? M << shift : Sum(1) << 126;  // |v| ≥ 2^62: clamped
-    else
-        q = -shift < 64 ? M >> -shift : Sum(0);
-    return v < 0 ? -q : q;
-}
 
-double Film::fromFixed(Sum s) { return std::ldexp(double(s), -64); }
 
 void Film::splat(int x, int y, Spectrum value) {
     if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
@@ -58,6 +42,14 @@ std::vector<float> Film::rgb() const {
     if (passes_ == 0) return out;
     double inv = 1.0 / passes_;
     for (size_t i = 0; i < sum_.size(); ++i) out[i] = float(fromFixed(sum_[i]) * inv);
+    return out;
+}
+
+std::vector<float> Film::rgbWithout(int passes, const std::vector<Sum>& sums) const {
+    if (passes <= 0 || passes >= passes_ || sums.size() != sum_.size()) return rgb();
+    std::vector<float> out(sum_.size(), 0.0f);
+    const double inv = 1.0 / (passes_ - passes);
+    for (size_t i = 0; i < sum_.size(); ++i) out[i] = float(fromFixed(sum_[i] - sums[i]) * inv);
     return out;
 }
 

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace brume {
 
@@ -42,8 +43,29 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
             for (int c = 0; c < 3; ++c) image[3 * (size_t(r.y) * size_t(s.width) + size_t(r.x)) + size_t(c)] += r.value[c];
 }
 
+namespace {
+
+// Adds a pass's image to exact sums as the film adds it: each sample and each splat on its own.
+void addExact(const PassSummary& s, std::vector<FixedSum>& sums) {
+    const size_t n = size_t(s.width) * size_t(s.height);
+    if (sums.size() != 3 * n) sums.assign(3 * n, FixedSum(0));
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) sums[3 * i + size_t(c)] += toFixed(s.radiance[i][c]);
+    for (int l = 0; l < s.splatLists; ++l)
+        for (const SplatList::Record& r : s.splats[l].records())
+            if (r.x >= 0 && r.y >= 0 && r.x < s.width && r.y < s.height)
+                for (int c = 0; c < 3; ++c) sums[3 * (size_t(r.y) * size_t(s.width) + size_t(r.x)) + size_t(c)] += toFixed(r.value[c]);
+}
+
+}  // namespace
+
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
+    if (chosen_ < 0 && s.pass <= kLastDecisionPass) {
+        const bool second = dueling() && s.pass >= kDuelStart + AllocationDuel::kPasses;
+        addExact(s, leftOut_[second ? 1 : 0]);
+        if (!second) ++leftOutPasses_;
+    }
     if (s.pass > kDecisionPass) {
         if (dueling() && chosen_ < 0 && s.pass <= kLastDecisionPass && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
             std::vector<float> image;
@@ -175,6 +197,18 @@ void AllocationPlanner::decide() {
     if (std::getenv("BRUME_DEBUG_PLANNER"))
         std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_[0] * scale);
     startDuel();
+    if (chosen_ >= 0) keepLeftOut();
+}
+
+// What the image may leave out, once the choice is final: the pilot's passes and the duel's
+// loser's (the path tracer's, if the pilot's choice won: then the pilot's passes, rendered
+// by every strategy including the winner's, stay).
+void AllocationPlanner::keepLeftOut() {
+    if (dueling() && chosen_ == duelists_[0]) {
+        std::swap(leftOut_[0], leftOut_[1]);
+        leftOutPasses_ = AllocationDuel::kPasses;
+    }
+    leftOut_[1] = std::vector<FixedSum>();
 }
 
 // The pilot's estimate cannot see what the sampler gives each candidate (its passes use
@@ -220,6 +254,7 @@ void AllocationPlanner::decideDuel() {
     // where only light subpaths reach would look noiseless.
     const bool sawAll = duel_.mean(1) >= 0.9 * duel_.mean(0);
     chosen_ = sawAll && efficiency[1] > efficiency[0] ? duelists_[1] : duelists_[0];
+    keepLeftOut();
 }
 
 std::string AllocationPlanner::summaryLine() const {
@@ -282,7 +317,8 @@ std::string AllocationPlanner::report() const {
 
 // State: "BAP2", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
-// for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save).
+// for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
+// passes left out and (u64 n, n × i128) for each of the two left-out sums.
 namespace {
 template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
 template <class T> void putVector(std::string& out, const std::vector<T>& v) {
@@ -327,6 +363,8 @@ std::string AllocationPlanner::saveState() const {
     putVector(out, sumSq_);
     putVector(out, weights_);
     duel_.save(out);
+    put(out, int32_t(leftOutPasses_));
+    for (const std::vector<FixedSum>& v : leftOut_) putVector(out, v);
     return out;
 }
 
@@ -351,6 +389,13 @@ void AllocationPlanner::loadState(const std::string& state) {
     sumSq_ = r.getVector<double>(values);
     weights_ = r.getVector<float>(values);
     duel_.load(state, r.at, values);
+    const int leftOutPasses = r.get<int32_t>();
+    std::vector<FixedSum> leftOut[2];
+    for (std::vector<FixedSum>& v : leftOut) {
+        v = r.getVector<FixedSum>(values);
+        if (!v.empty() && v.size() != values) throw std::runtime_error("allocation state is malformed");
+    }
+    if (leftOutPasses < 0 || leftOutPasses > kLastDecisionPass + 1) throw std::runtime_error("allocation state is malformed");
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
     pilotChoice_ = chosen_ = -1;
     collected_ = collected;
@@ -364,6 +409,9 @@ void AllocationPlanner::loadState(const std::string& state) {
         if (dueling() && duel_.passes(1) == AllocationDuel::kPasses) decideDuel();
         if (chosen_ != chosen) throw std::runtime_error("allocation state is malformed");
     }
+    leftOutPasses_ = leftOutPasses;
+    leftOut_[0] = std::move(leftOut[0]);
+    leftOut_[1] = std::move(leftOut[1]);
 }
 
 }  // namespace brume

@@ -57,6 +57,15 @@ SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
     return planner_ ? planner_->samplerFor(pass, requested) : requested;
 }
 
+uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
+    return planner_ ? AllocationPlanner::sequenceIndex(pass, kind) : uint64_t(pass);
+}
+
+Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
+    if (!planner_ || planner_->leftOutPasses() == 0) return {};
+    return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums()};
+}
+
 std::string BdptIntegrator::saveState() const { return planner_ ? planner_->saveState() : std::string(); }
 
 void BdptIntegrator::loadState(const std::string& state) {

@@ -101,6 +101,7 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         pass_ = pass;
         passSampler_ = integrator_.samplerFor(pass, options_.sampler);
+        passIndex_ = integrator_.sequenceIndexFor(pass, passSampler_);
         nextTile_.store(0);
         tilesDone_.store(0);
         running_ = int(threads_.size());
@@ -197,7 +198,7 @@ private:
         counters = TileCounters();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
-                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), uint64_t(pass), passSampler_);
+                Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), passIndex_, passSampler_);
                 Sample2 jitter = sampler.get2D(dim::kFilmJitter);
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
@@ -231,6 +232,7 @@ private:
     uint64_t generation_ = 0;  // bumped for every pass
     int pass_ = 0;
     SamplerKind passSampler_ = SamplerKind::Sobol;  // Integrator::samplerFor the pass in flight
+    uint64_t passIndex_ = 0;                        // and its sequenceIndexFor
     int running_ = 0;          // workers still in the current pass
     bool quit_ = false;
     std::exception_ptr error_;
@@ -303,6 +305,13 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     RenderControl control;
     control.cancel = cancel;
     return render(scene, integrator, options, film, control);
+}
+
+std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler) {
+    const Integrator::LeftOutPasses out = integrator.leftOut();
+    if (sampler != SamplerKind::Sobol || out.passes <= 0 || !out.sums || film.passes() - out.passes < kLeftOutRatio * out.passes)
+        return film.rgb();
+    return film.rgbWithout(out.passes, *out.sums);
 }
 
 }  // namespace brume

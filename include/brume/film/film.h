@@ -1,12 +1,10 @@
 // Image accumulation. The renderer works in passes of one sample per pixel; the film keeps,
 // per pixel, the sum of those samples and reports their mean over the completed passes.
 //
-// The sums are exact: every value is converted to a 128-bit fixed-point integer in units of
-// 2^-64 (float values are multiples of 2^-149, so every float of magnitude 2^-40 or more
-// converts exactly; smaller ones are truncated towards zero, a change below 2^-64 absolute;
-// magnitudes above 2^62 are clamped) and integer addition is associative. So the image does
-// not depend on the order in which passes, tiles, threads or MPI ranks add their samples:
-// passes can be rendered anywhere and their sums combined in any order, to the same bits.
+// The sums are exact (math/fixed_sum.h: 128-bit fixed point, whose addition is associative).
+// So the image does not depend on the order in which passes, tiles, threads or MPI ranks add
+// their samples: passes can be rendered anywhere and their sums combined in any order, to the
+// same bits; and passes summed elsewhere the same way can be taken out again (rgbWithout).
 //
 // Splats (contributions that land on arbitrary pixels, e.g. light tracing in the
 // bidirectional integrator) go to the same sums. They are still never added concurrently:
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "brume/integrators/splat_list.h"
+#include "brume/math/fixed_sum.h"
 #include "brume/math/vec3.h"
 
 namespace brume {
@@ -53,13 +52,16 @@ public:
     Spectrum pixel(int x, int y) const;
     // The whole image as float RGB, row-major, top row first (what writeImage takes).
     std::vector<float> rgb() const;
+    // The mean over the completed passes but `passes` of them, whose exact sums are `sums`
+    // (3 per pixel, as sums()); rgb() if that leaves none or the sums do not fit.
+    std::vector<float> rgbWithout(int passes, const std::vector<FixedSum>& sums) const;
     // Back to black, zero passes.
     void clear();
 
     // The exact sums (see the file comment), 3 per pixel, row-major, top row first.
-    __extension__ typedef __int128 Sum;
-    static Sum toFixed(float v);
-    static double fromFixed(Sum s);
+    typedef FixedSum Sum;
+    static Sum toFixed(float v) { return brume::toFixed(v); }
+    static double fromFixed(Sum s) { return brume::fromFixed(s); }
 
     // The raw state, for checkpoints and for combining renders of disjoint passes (MPI
     // ranks): the sums, the pass count and whether there were splats. restore() puts such a

@@ -48,6 +48,7 @@
 #include "brume/integrators/allocation_duel.h"
 #include "brume/integrators/allocation_statistics.h"
 #include "brume/integrators/bdpt_allocation.h"
+#include "brume/math/fixed_sum.h"
 
 namespace brume {
 
@@ -79,6 +80,17 @@ public:
         return pass <= kDecisionPass ? SamplerKind::Independent : requested;
     }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
+    // The index of pass `pass` in the sequence of a sampler of kind `kind`: with Sobol the
+    // pilot's passes (independent numbers) take none, so that the duel's contenders start on
+    // aligned blocks (0–7, 8–15); independent numbers are indexed by the pass itself.
+    static uint64_t sequenceIndex(int pass, SamplerKind kind) {
+        return uint64_t(kind == SamplerKind::Sobol && pass > kDecisionPass ? pass - kDuelStart : pass);
+    }
+    // Once decided: the passes the image may leave out (the pilot's and the duel's loser's;
+    // with the path tracer's duel passes when the pilot's choice won, the pilot's stay) and
+    // their exact sums as the film keeps them (renderer.h, finalImage).
+    int leftOutPasses() const { return chosen_ >= 0 ? leftOutPasses_ : 0; }
+    const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
     PixelWeights weights() const { return PixelWeights{width_, height_, weights_.data()}; }
     const std::vector<BdptAllocation>& candidates() const { return candidates_; }
 
@@ -108,6 +120,7 @@ private:
     void startDuel();
     void duelPass(int pass, const std::vector<float>& image);
     void decideDuel();
+    void keepLeftOut();
     double cost(const BdptAllocation& a) const;
 
     std::vector<BdptAllocation> candidates_;
@@ -118,6 +131,10 @@ private:
     int duelists_[2] = {-1, -1};    // the pilot's choice and the path tracer
     AllocationDuel duel_;
     double duelVariance_[2] = {0, 0};  // the relative variance at equal time, as decided (report)
+    // Exact sums of passes (3 per pixel): [0] the pilot's and the first duelist's, [1] the
+    // second duelist's; after the choice [0] alone, what the image may leave out.
+    std::vector<FixedSum> leftOut_[2];
+    int leftOutPasses_ = 0;
     int width_ = 0, height_ = 0;
     std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far
     int passes_ = 0;                   // pilot passes in sum_

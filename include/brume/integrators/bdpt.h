@@ -95,6 +95,8 @@ public:
                               PathStats& stats, SplatList& splats) const override;
     void beginPass(const Scene& scene, int pass) override;
     SamplerKind samplerFor(int pass, SamplerKind requested) const override;
+    uint64_t sequenceIndexFor(int pass, SamplerKind kind) const override;
+    LeftOutPasses leftOut() const override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
     std::string saveState() const override;
     void loadState(const std::string& state) override;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <vector>
 #include "brume/integrators/splat_list.h"
+#include "brume/math/fixed_sum.h"
 #include "brume/math/vec3.h"
 #include "brume/sampling/sampler.h"
 
@@ -67,8 +69,18 @@ public:
     // `pass` and after its last. What the integrator keeps from pass to pass (statistics that
     // steer later passes) changes only here, so every sample of a pass sees the same state.
     virtual void beginPass(const Scene& scene, int pass) {}
-    // The sampler pass `pass` uses, given the one asked for (asked after beginPass).
+    // The sampler pass `pass` uses, given the one asked for (asked after beginPass), and the
+    // pass's index in that sampler's sequence.
     virtual SamplerKind samplerFor(int pass, SamplerKind requested) const { return requested; }
+    virtual uint64_t sequenceIndexFor(int pass, SamplerKind) const { return uint64_t(pass); }
+    // Passes the image may leave out once the others far outnumber them (the efficiency-aware
+    // tracer's pilot and its duel's loser, render/renderer.h finalImage): how many, and their
+    // exact sums as the film adds them (3 per pixel); none by default.
+    struct LeftOutPasses {
+        int passes = 0;
+        const std::vector<FixedSum>* sums = nullptr;
+    };
+    virtual LeftOutPasses leftOut() const { return {}; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}
     // What it keeps from pass to pass, as bytes for a checkpoint (empty: nothing), and back:
     // a render resumed from a checkpoint continues with the same state. loadState throws

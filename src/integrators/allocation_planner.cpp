@@ -201,7 +201,7 @@ void AllocationPlanner::decide() {
 }
 
 // What the image may leave out, once the choice is final: the pilot's passes and the duel's
-// loser's (the path tracer's, if the pilot's choice won: then the pilot's passes, rendered
+// loser's (the path tracer's, if the bidirectional allocation won: then the pilot's passes, rendered
 // by every strategy including the winner's, stay).
 void AllocationPlanner::keepLeftOut() {
     if (dueling() && chosen_ == duelists_[0]) {
@@ -212,23 +212,27 @@ void AllocationPlanner::keepLeftOut() {
 }
 
 // The pilot's estimate cannot see what the sampler gives each candidate (its passes use
-// independent numbers). Where it chose a bidirectional allocation and rated the path tracer
-// within kDuelRange of it, the two render kDuelPasses passes each with the render's sampler
-// (allocation_duel.h) and the better at equal cost wins. Outside that range, or where the
-// path tracer is biased (no light subpaths where only they see the light: its estimate is 0),
-// the pilot's choice stands.
+// independent numbers). So the best bidirectional allocation by that estimate and the path
+// tracer, where the estimate puts them within kDuelRange of each other, render
+// AllocationDuel::kPasses passes each with the render's sampler (allocation_duel.h) and the
+// better at equal cost wins. Out of that range, or where the path tracer is biased (no light
+// subpaths where only they see the light: its estimate is 0), the pilot's choice stands.
 void AllocationPlanner::startDuel() {
     constexpr double kDuelRange = 16;
     duelists_[0] = duelists_[1] = -1;
     chosen_ = pilotChoice_;
-    const Estimate& mine = estimates_[size_t(pilotChoice_)];
-    if (candidates_[size_t(pilotChoice_)].pathTracer) return;
-    for (size_t j = 0; j < candidates_.size(); ++j)
-        if (candidates_[j].pathTracer && estimates_[j].efficiency > 0 && estimates_[j].efficiency * kDuelRange >= mine.efficiency) {
-            duelists_[0] = pilotChoice_;
-            duelists_[1] = int(j);
-            chosen_ = -1;
-        }
+    int bidirectional = -1, pathTracer = -1;
+    for (size_t j = 0; j < candidates_.size(); ++j) {
+        int& best = candidates_[j].pathTracer ? pathTracer : bidirectional;
+        if (best < 0 || estimates_[j].efficiency > estimates_[size_t(best)].efficiency) best = int(j);
+    }
+    if (bidirectional < 0 || pathTracer < 0) return;
+    const double b = estimates_[size_t(bidirectional)].efficiency, p = estimates_[size_t(pathTracer)].efficiency;
+    if (b > 0 && p > 0 && std::max(b, p) <= kDuelRange * std::min(b, p)) {
+        duelists_[0] = bidirectional;
+        duelists_[1] = pathTracer;
+        chosen_ = -1;
+    }
 }
 
 void AllocationPlanner::duelPass(int pass, const std::vector<float>& image) {

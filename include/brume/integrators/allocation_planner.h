@@ -13,10 +13,11 @@
 //   passes 1–3    also: every second pixel in x and y records its contributions, for the
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays;
-//   passes 4–19   the duel (allocation_duel.h), where the pilot chose a bidirectional
-//                 allocation and rated the path tracer within 16× of it: the two render 8
-//                 passes each, in turn, with the sampler asked for, and the better at equal
-//                 cost (relative variance of 4 passes × cost) renders the rest — provided the
+//   passes 4–19   the duel (allocation_duel.h), where the pilot rated the best
+//                 bidirectional allocation and the path tracer within 16× of each other:
+//                 the two render 8 passes each, in turn, with the sampler asked for (Sobol
+//                 indices 0–7 and 8–15: aligned blocks), and the better at equal cost
+//                 (relative variance of 4 passes × cost) renders the rest — provided the
 //                 path tracer's mean is within 10 % of the other's (black where only light
 //                 subpaths reach would look noiseless). The pilot's estimate cannot see what
 //                 Owen-scrambled Sobol gives each (34× the path tracer, 3.9× the
@@ -87,7 +88,7 @@ public:
         return uint64_t(kind == SamplerKind::Sobol && pass > kDecisionPass ? pass - kDuelStart : pass);
     }
     // Once decided: the passes the image may leave out (the pilot's and the duel's loser's;
-    // with the path tracer's duel passes when the pilot's choice won, the pilot's stay) and
+    // with the path tracer's duel passes when the bidirectional one won, the pilot's stay) and
     // their exact sums as the film keeps them (renderer.h, finalImage).
     int leftOutPasses() const { return chosen_ >= 0 ? leftOutPasses_ : 0; }
     const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
@@ -98,7 +99,7 @@ public:
 
     bool decided() const { return chosen_ >= 0; }
     const BdptAllocation& chosen() const { return candidates_[size_t(chosen_ < 0 ? pilot_ : chosen_)]; }
-    // Whether the pilot's choice met the path tracer in a duel (decided or not).
+    // Whether the best bidirectional allocation met the path tracer in a duel (decided or not).
     bool dueling() const { return duelists_[0] >= 0; }
     // One line: the choice and its estimated efficiency relative to the pilot's; and a table
     // of every candidate's estimated relative variance, cost and efficiency.
@@ -128,7 +129,7 @@ private:
     bool probe_ = false;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)
-    int duelists_[2] = {-1, -1};    // the pilot's choice and the path tracer
+    int duelists_[2] = {-1, -1};    // the best bidirectional allocation and the path tracer
     AllocationDuel duel_;
     double duelVariance_[2] = {0, 0};  // the relative variance at equal time, as decided (report)
     // Exact sums of passes (3 per pixel): [0] the pilot's and the first duelist's, [1] the

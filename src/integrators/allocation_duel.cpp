@@ -1,5 +1,6 @@
 #include "brume/integrators/allocation_duel.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -19,13 +20,11 @@ void AllocationDuel::addPass(int c, int index, const std::vector<float>& image, 
             first_[level] = batch;
             break;
         }
-        double sum = 0;
         for (size_t i = 0; i < batch.size(); ++i) {
             const double d = (double(batch[i]) - double(first_[level][i])) / size;  // of the means
-            sum += double(weights[i]) * d * d;
+            squares_[c][level][(i / 3) % kGroups] += double(weights[i]) * d * d;
             batch[i] += first_[level][i];
         }
-        squares_[c][level] += sum;
     }
     passes_[c] = index + 1;
 }
@@ -33,10 +32,13 @@ void AllocationDuel::addPass(int c, int index, const std::vector<float>& image, 
 // Pairs of 2^level-pass batches in kPasses passes: kPasses / 2^(level+1); each gives 2·V.
 double AllocationDuel::variance(int c, int level) const {
     const int pairs = kPasses >> (level + 1);
-    return squares_[c][level] / (2.0 * pairs);
+    double groups[kGroups];
+    std::copy(squares_[c][level], squares_[c][level] + kGroups, groups);
+    std::nth_element(groups, groups + kGroups / 2, groups + kGroups);
+    return groups[kGroups / 2] * kGroups / (2.0 * pairs);
 }
 
-// State: i32 passes × 2, f64 squares × 2·kLevels, f64 mean × 2, then per level (u64 n, n f32).
+// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, then per level (u64 n, n f32).
 namespace {
 template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
 template <class T> T get(const std::string& s, size_t& at) {
@@ -51,7 +53,8 @@ template <class T> T get(const std::string& s, size_t& at) {
 void AllocationDuel::save(std::string& out) const {
     for (int p : passes_) put(out, int32_t(p));
     for (const auto& row : squares_)
-        for (double v : row) put(out, v);
+        for (const auto& level : row)
+            for (double v : level) put(out, v);
     for (double m : mean_) put(out, m);
     for (const std::vector<float>& f : first_) {
         put(out, uint64_t(f.size()));
@@ -65,7 +68,8 @@ void AllocationDuel::load(const std::string& s, size_t& at, size_t values) {
         if (p < 0 || p > kPasses) throw std::runtime_error("allocation state is malformed");
     }
     for (auto& row : squares_)
-        for (double& v : row) v = get<double>(s, at);
+        for (auto& level : row)
+            for (double& v : level) v = get<double>(s, at);
     for (double& m : mean_) m = get<double>(s, at);
     for (std::vector<float>& f : first_) {
         const uint64_t n = get<uint64_t>(s, at);

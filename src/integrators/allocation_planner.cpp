@@ -194,6 +194,7 @@ void AllocationPlanner::decide() {
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);
     }
     pilotChoice_ = best;
+    pilotVariance_ = pilotVariance;
     if (std::getenv("BRUME_DEBUG_PLANNER"))
         std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_[0] * scale);
     startDuel();
@@ -203,6 +204,17 @@ void AllocationPlanner::decide() {
 // What the image may leave out, once the choice is final: the pilot's passes and the duel's
 // loser's (the path tracer's, if the bidirectional allocation won: then the pilot's passes, rendered
 // by every strategy including the winner's, stay).
+double AllocationPlanner::leftOutNoise() const {
+    if (chosen_ < 0 || !dueling()) return 0.0;
+    const int won = chosen_ == duelists_[0] ? 0 : 1;
+    const double mine = duel_.variance(won, 0);
+    // The bidirectional allocation won: the path tracer's passes; else the pilot's and B's.
+    const double theirs = won == 0 ? duel_.variance(1, 0)
+                                   : (kDuelStart * pilotVariance_ + AllocationDuel::kPasses * duel_.variance(0, 0)) /
+                                         (kDuelStart + AllocationDuel::kPasses);
+    return mine > 0 ? theirs / mine : 0.0;
+}
+
 void AllocationPlanner::keepLeftOut() {
     if (dueling() && chosen_ == duelists_[0]) {
         std::swap(leftOut_[0], leftOut_[1]);

@@ -63,7 +63,7 @@ uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
 
 Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     if (!planner_ || planner_->leftOutPasses() == 0) return {};
-    return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums()};
+    return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
 std::string BdptIntegrator::saveState() const { return planner_ ? planner_->saveState() : std::string(); }

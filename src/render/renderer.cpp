@@ -309,9 +309,11 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
 
 std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler) {
     const Integrator::LeftOutPasses out = integrator.leftOut();
-    if (sampler != SamplerKind::Sobol || out.passes <= 0 || !out.sums || film.passes() - out.passes < kLeftOutRatio * out.passes)
-        return film.rgb();
-    return film.rgbWithout(out.passes, *out.sums);
+    const int others = film.passes() - out.passes;
+    if (out.passes <= 0 || !out.sums || others <= 0) return film.rgb();
+    const bool noisier = out.noise > 2.0 + double(out.passes) / others;
+    const bool outnumbered = sampler == SamplerKind::Sobol && others >= kLeftOutRatio * out.passes;
+    return noisier || outnumbered ? film.rgbWithout(out.passes, *out.sums) : film.rgb();
 }
 
 }  // namespace brume

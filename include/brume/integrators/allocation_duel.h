@@ -17,6 +17,12 @@
 // Per pixel and channel the squared differences are weighted as the pilot's (1/(Ī² + ε):
 // relative errors), at three batch sizes (1, 2 and 4 passes; from 4, 2 and 1 pairs of the
 // 8 passes), whose ratios show how fast each contender's error falls.
+//
+// Heavy tails: a sum over pixels of so few pairs is at the mercy of one firefly (a shaded
+// lamp over glass, single scattering: one pixel made a contender look 2.6× worse in one seed
+// and the other 2.1× worse in the next). So the pixels are dealt into kGroups interleaved
+// groups and the estimate is the median of the groups' sums times kGroups (median of means):
+// a firefly moves one group.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -28,13 +34,15 @@ class AllocationDuel {
 public:
     static constexpr int kLevels = 3;                 // batches of 1, 2 and 4 passes
     static constexpr int kPasses = 2 << (kLevels - 1);  // per contender: one pair of the largest batches
+    static constexpr int kGroups = 9;                    // pixel groups of the median of means
 
     // The index-th pass (0 … kPasses − 1) of contender c (0 or 1): its image and the pixel
     // weights (3 values per pixel each). Passes come in order.
     void addPass(int c, int index, const std::vector<float>& image, const std::vector<float>& weights);
     int passes(int c) const { return passes_[c]; }
     // The weighted relative variance of the mean of 2^level passes of contender c, summed
-    // over pixels and channels (see above: an overestimate by a factor of 1 to 1.75).
+    // over pixels and channels (see above: an overestimate by a factor of 1 to 1.75; the
+    // median of the pixel groups' sums, times kGroups).
     double variance(int c, int level) const;
     // Σ w·L over its passes, per pass: its weighted mean brightness.
     double mean(int c) const { return passes_[c] > 0 ? mean_[c] / passes_[c] : 0.0; }
@@ -44,7 +52,7 @@ public:
 
 private:
     std::vector<float> first_[kLevels];  // the first batch of the current pair, per level (sums)
-    double squares_[2][kLevels] = {};    // Σ w·(a − b)² over the pairs so far
+    double squares_[2][kLevels][kGroups] = {};  // Σ w·(a − b)² over the pairs so far, per pixel group
     double mean_[2] = {};
     int passes_[2] = {0, 0};
 };

@@ -91,6 +91,9 @@ public:
     // with the path tracer's duel passes when the bidirectional one won, the pilot's stay) and
     // their exact sums as the film keeps them (renderer.h, finalImage).
     int leftOutPasses() const { return chosen_ >= 0 ? leftOutPasses_ : 0; }
+    // Their relative variance per pass over the chosen allocation's, from the duel (0 if
+    // there was none: unknown).
+    double leftOutNoise() const;
     const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
     PixelWeights weights() const { return PixelWeights{width_, height_, weights_.data()}; }
     const std::vector<BdptAllocation>& candidates() const { return candidates_; }
@@ -135,6 +138,7 @@ private:
     // Exact sums of passes (3 per pixel): [0] the pilot's and the first duelist's, [1] the
     // second duelist's; after the choice [0] alone, what the image may leave out.
     std::vector<FixedSum> leftOut_[2];
+    double pilotVariance_ = 0;  // V_pilot: the pilot's weighted relative variance of one pass
     int leftOutPasses_ = 0;
     int width_ = 0, height_ = 0;
     std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far

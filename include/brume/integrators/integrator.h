@@ -79,6 +79,7 @@ public:
     struct LeftOutPasses {
         int passes = 0;
         const std::vector<FixedSum>* sums = nullptr;
+        double noise = 0;  // their variance per pass over the others' (0: not known)
     };
     virtual LeftOutPasses leftOut() const { return {}; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}

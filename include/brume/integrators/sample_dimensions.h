@@ -18,9 +18,8 @@
 // A decision repeated a variable number of times on one place (free flight through several
 // invisible-boundary pieces, pt's equi-angular strategy per piece) reads its dimension with
 // repeat 0 for the first time and repeat i for the i-th further one (Sampler::get1D). The
-// dimensions are far apart, not dense: PCG32 hashes them; a low-discrepancy sampler maps the
-// ones that matter most (the jitter, the first vertices' distance and direction, the first
-// connections) to its lowest dimensions.
+// dimensions are far apart, not dense: the independent sampler hashes them, and Sobol gives
+// each dimension (or pair) its own scrambled sequence, seeded by the dimension (sampler.h).
 #pragma once
 #include <cstdint>
 

@@ -73,15 +73,19 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
     return render(scene, integrator, options, film, cancel);
 }
 
-// The image of a render: the film's mean, or, where the integrator has passes the image may
-// leave out (Integrator::leftOut: the efficiency-aware tracer's pilot and its duel's loser)
-// and the render used Sobol numbers, the mean of the others once they are at least
-// kLeftOutRatio times as many. With Sobol a pass's error is not independent of its
-// neighbours': the chosen allocation's passes, stratified together, converge faster than
-// 1/n, while the left-out passes' error stays that of so many independent samples (on a
-// lamp in thin fog, the pilot's and the duel's 12 of 419 passes held half the error). Leaving
-// them out costs at most 1/(1 + kLeftOutRatio) of the samples. A function of the film and
-// the integrator's state alone: the same bits after any thread count, rank count or resume.
+// The image of a render: the film's mean, or the mean without the passes the integrator
+// says the image may leave out (Integrator::leftOut: the efficiency-aware tracer's pilot and
+// its duel's loser), when leaving them out is the better estimate:
+//   - when their variance per pass, v, exceeds the others' by more than 2 + k/n (k of them, n
+//     others): the mean of n passes of variance 1 and k of variance v has variance
+//     (n + k·v)/(n + k)², above 1/n exactly then (passes taken as independent);
+//   - with Sobol numbers, once the others are at least kLeftOutRatio times as many: their
+//     passes, stratified together, converge faster than 1/n, while the left-out ones keep
+//     the error of as many independent samples (on a lamp in thin fog, the pilot's and the
+//     duel's 12 of 419 passes held half the error). That costs at most 1/(1 + kLeftOutRatio)
+//     of the samples.
+// A function of the film and the integrator's state alone: the same bits after any thread
+// count, rank count or resume.
 constexpr int kLeftOutRatio = 4;
 std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler);
 

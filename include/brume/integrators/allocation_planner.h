@@ -17,9 +17,11 @@
 //                 bidirectional allocation and the path tracer within 16× of each other:
 //                 the two render 8 passes each, in turn, with the sampler asked for (Sobol
 //                 indices 0–7 and 8–15: aligned blocks), and the better at equal cost
-//                 (relative variance of 4 passes × cost) renders the rest — provided the
-//                 path tracer's mean is within 10 % of the other's (black where only light
-//                 subpaths reach would look noiseless). The pilot's estimate cannot see what
+//                 (relative variance of 4 passes × cost) renders the rest if it is the
+//                 pilot's choice or better than that by 2× (the pilot sees heavy tails, the
+//                 duel's median over pixel groups does not) — and the path tracer only if
+//                 its mean is within 10 % of the other's (black where only light subpaths
+//                 reach would look noiseless). The pilot's estimate cannot see what
 //                 Owen-scrambled Sobol gives each (34× the path tracer, 3.9× the
 //                 bidirectional tracer, at 64 spp on one lamp in fog); the duel measures it;
 //   then          the chosen allocation, for good, with the sampler asked for.

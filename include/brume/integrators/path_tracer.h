@@ -1,7 +1,8 @@
-// The volumetric path tracer (`--integrator pt`): free-flight sampling in homogeneous media,
-// next-event estimation from surface and medium vertices MIS-combined (power heuristic) with
-// BSDF/phase sampling, and equi-angular light connections on medium segments
-// (`--connect`). It is the reference every other method is tested against.
+// The volumetric path tracer (`--integrator pt`): free-flight sampling in every medium
+// (homogeneous or grid, grey or coloured), next-event estimation from surface and medium
+// vertices MIS-combined (power heuristic) with BSDF/phase sampling, and equi-angular light
+// connections on medium segments (`--connect`). It is the reference every other method is
+// tested against.
 #pragma once
 #include "brume/integrators/integrator.h"
 

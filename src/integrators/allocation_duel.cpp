@@ -75,7 +75,7 @@ void AllocationDuel::load(const std::string& s, size_t& at, size_t values) {
         const uint64_t n = get<uint64_t>(s, at);
         if ((n != 0 && n != values) || (s.size() - at) / sizeof(float) < n) throw std::runtime_error("allocation state is malformed");
         f.resize(n);
-        std::memcpy(f.data(), s.data() + at, n * sizeof(float));
+        if (n > 0) std::memcpy(f.data(), s.data() + at, n * sizeof(float));
         at += n * sizeof(float);
     }
 }

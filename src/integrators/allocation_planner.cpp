@@ -381,7 +381,7 @@ struct Reader {
         uint64_t n = get<uint64_t>();
         if (n > most || (s.size() - at) / sizeof(T) < n) throw std::runtime_error("allocation state is malformed");
         std::vector<T> v(n);
-        std::memcpy(v.data(), s.data() + at, n * sizeof(T));
+        if (n > 0) std::memcpy(v.data(), s.data() + at, n * sizeof(T));
         at += n * sizeof(T);
         return v;
     }

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -155,4 +156,27 @@ TEST_CASE("mpi: a killed rank fails the job and the last checkpoint stays valid"
     CHECK_FALSE(fs::exists(out));
     Checkpoint c = readCheckpoint(ckpt);  // throws if damaged
     CHECK(c.film.passes() > 0);
+}
+
+// A build without MPI under mpirun would render the whole image in every process, to the same
+// file: it refuses, with one line naming the cause, and writes nothing. (In an MPI build there
+// is nothing to check.)
+TEST_CASE("mpi: a build without MPI refuses to run as one of several processes", "[mpi][cli]") {
+    if (BRUME_TEST_MPI) {
+        WARN("an MPI build: nothing to check");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "a.pfm";
+    Run r = shell("OMPI_COMM_WORLD_SIZE=2 " + quote(BRUME_EXE) + kRender + "--spp 1 -o " + quote(out));
+    CHECK(r.code == 1);
+    CHECK(r.err.find("built without MPI") != std::string::npos);
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK_FALSE(fs::exists(out));
+    r = shell("PMI_SIZE=3 " + quote(BRUME_EXE) + kRender + "--spp 1 -o " + quote(out));
+    CHECK(r.code == 1);
+    // One process under a launcher is a plain render.
+    r = shell("OMPI_COMM_WORLD_SIZE=1 " + quote(BRUME_EXE) + kRender + "--spp 1 -o " + quote(out));
+    CHECK(r.code == 0);
+    CHECK(fs::exists(out));
 }

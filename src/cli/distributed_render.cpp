@@ -95,6 +95,14 @@ RankGroup::RankGroup() {
     started_ = true;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
+#else
+    // Without MPI every process of `mpirun -np N` would render the whole image, to the same
+    // file. The launcher's environment says how many there are.
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+        if (const char* n = std::getenv(v); n && std::atoi(n) > 1)
+            throw std::runtime_error(std::string("this brume was built without MPI, but runs as one of ") + n +
+                                     " processes under mpirun (" + v + "); rebuild with libopenmpi-dev installed "
+                                     "(CMake option BRUME_MPI=ON), or run it without mpirun");
 #endif
 }
 

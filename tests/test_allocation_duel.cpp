@@ -68,12 +68,13 @@ TEST_CASE("duel: state survives a save and load midway, to the same numbers", "[
     std::string state;
     first.save(state);
     AllocationDuel second;
-    size_t at = 0;
-    second.load(state, at, kValues);
-    CHECK(at == state.size());
+    StateReader reader{state};
+    second.load(reader, kValues);
+    CHECK(reader.at == state.size());
     for (int i = 3; i < AllocationDuel::kPasses; ++i) second.addPass(0, i, pass(i, SamplerKind::Sobol, 7), weights);
     for (int level = 0; level < AllocationDuel::kLevels; ++level) CHECK(second.variance(0, level) == straight.variance(0, level));
-    size_t at2 = 0;
     AllocationDuel bad;
-    CHECK_THROWS_AS(bad.load(state.substr(0, state.size() - 1), at2, kValues), std::runtime_error);
+    const std::string truncated = state.substr(0, state.size() - 1);
+    StateReader cut{truncated};
+    CHECK_THROWS_AS(bad.load(cut, kValues), std::runtime_error);
 }

@@ -307,7 +307,7 @@ TEST_CASE("film: restore puts the exact state back, splats included", "[film]") 
 
     CHECK_THROWS_AS(copy.restore(-1, film.sums(), false), std::invalid_argument);
     CHECK_THROWS_AS(copy.restore(1, std::vector<Film::Sum>(17), false), std::invalid_argument);
-    copy.restore(4, std::vector<Film::Sum>(18, Film::toFixed(2.0f)), false);
+    copy.restore(4, std::vector<Film::Sum>(18, toFixed(2.0f)), false);
     CHECK_FALSE(copy.hasSplats());
     CHECK(copy.pixel(0, 0).x == 0.5f);
 }
@@ -333,9 +333,9 @@ TEST_CASE("film: sums do not depend on the order of adding", "[film]") {
     for (size_t i = values.size(); i-- > 0;) d2 += values[i];
     INFO("double sums " << d1 << " and " << d2 << " (they may or may not differ; the exact ones may not)");
     // Conversion is exact for |v| >= 2^-40: 0.1f in and out.
-    CHECK(Film::fromFixed(Film::toFixed(0.1f)) == double(0.1f));
-    CHECK(Film::fromFixed(Film::toFixed(-3.5e7f)) == -3.5e7);
-    CHECK(Film::toFixed(0.0f) == 0);
+    CHECK(fromFixed(toFixed(0.1f)) == double(0.1f));
+    CHECK(fromFixed(toFixed(-3.5e7f)) == -3.5e7);
+    CHECK(toFixed(0.0f) == 0);
 }
 
 TEST_CASE("renderer: a film restored between passes continues to the same bits", "[renderer]") {

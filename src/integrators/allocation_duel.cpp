@@ -1,7 +1,6 @@
 #include "brume/integrators/allocation_duel.h"
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 
 namespace brume {
@@ -38,45 +37,29 @@ double AllocationDuel::variance(int c, int level) const {
     return groups[kGroups / 2] * kGroups / (2.0 * pairs);
 }
 
-// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, then per level (u64 n, n f32).
-namespace {
-template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
-template <class T> T get(const std::string& s, size_t& at) {
-    if (s.size() - at < sizeof(T)) throw std::runtime_error("allocation state is truncated");
-    T v;
-    std::memcpy(&v, s.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-}
-}  // namespace
-
+// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, then per level
+// (u64 n, n f32).
 void AllocationDuel::save(std::string& out) const {
-    for (int p : passes_) put(out, int32_t(p));
+    for (int p : passes_) putBytes(out, int32_t(p));
     for (const auto& row : squares_)
         for (const auto& level : row)
-            for (double v : level) put(out, v);
-    for (double m : mean_) put(out, m);
-    for (const std::vector<float>& f : first_) {
-        put(out, uint64_t(f.size()));
-        out.append(reinterpret_cast<const char*>(f.data()), f.size() * sizeof(float));
-    }
+            for (double v : level) putBytes(out, v);
+    for (double m : mean_) putBytes(out, m);
+    for (const std::vector<float>& f : first_) putVector(out, f);
 }
 
-void AllocationDuel::load(const std::string& s, size_t& at, size_t values) {
+void AllocationDuel::load(StateReader& r, size_t values) {
     for (int& p : passes_) {
-        p = get<int32_t>(s, at);
+        p = r.get<int32_t>();
         if (p < 0 || p > kPasses) throw std::runtime_error("allocation state is malformed");
     }
     for (auto& row : squares_)
         for (auto& level : row)
-            for (double& v : level) v = get<double>(s, at);
-    for (double& m : mean_) m = get<double>(s, at);
+            for (double& v : level) v = r.get<double>();
+    for (double& m : mean_) m = r.get<double>();
     for (std::vector<float>& f : first_) {
-        const uint64_t n = get<uint64_t>(s, at);
-        if ((n != 0 && n != values) || (s.size() - at) / sizeof(float) < n) throw std::runtime_error("allocation state is malformed");
-        f.resize(n);
-        if (n > 0) std::memcpy(f.data(), s.data() + at, n * sizeof(float));
-        at += n * sizeof(float);
+        f = r.getVector<float>(values);
+        if (!f.empty() && f.size() != values) throw std::runtime_error("allocation state is malformed");
     }
 }
 

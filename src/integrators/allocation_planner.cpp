@@ -1,10 +1,11 @@
 #include "brume/integrators/allocation_planner.h"
 
+#include "brume/integrators/state_bytes.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -258,9 +259,8 @@ void AllocationPlanner::decideDuel() {
     const int top = AllocationDuel::kLevels - 1, batch = 1 << top;
     double efficiency[2];
     for (int c = 0; c < 2; ++c) {
-        const double cost = estimates_[size_t(duelists_[c])].cost;
-        duelVariance_[c] = duel_.variance(c, top);
-        efficiency[c] = duelVariance_[c] > 0 ? 1.0 / (duelVariance_[c] * batch * cost) : 0.0;
+        const double cost = estimates_[size_t(duelists_[c])].cost, v = duel_.variance(c, top);
+        efficiency[c] = v > 0 ? 1.0 / (v * batch * cost) : 0.0;
         if (std::getenv("BRUME_DEBUG_PLANNER"))
             std::fprintf(stderr, "duel: %s: V(1) %g V(2) %g V(4) %g, mean %g, cost %g, efficiency %g; pilot's V %g efficiency %g\n",
                          candidates_[size_t(duelists_[c])].name().c_str(), duel_.variance(c, 0), duel_.variance(c, 1),
@@ -300,7 +300,8 @@ std::string AllocationPlanner::summaryLine() const {
         // Efficiency of each, from the duel: 1 / (V(4 passes) · cost).
         const int won = chosen_ == duelists_[0] ? 0 : 1;
         auto eff = [&](int c) {
-            return duelVariance_[c] > 0 ? 1.0 / (duelVariance_[c] * estimates_[size_t(duelists_[c])].cost) : 0.0;
+            const double v = duel_.variance(c, AllocationDuel::kLevels - 1);
+            return v > 0 ? 1.0 / (v * estimates_[size_t(duelists_[c])].cost) : 0.0;
         };
         std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency (2x overturns the pilot's choice)%s",
                       candidates_[size_t(duelists_[1 - won])].name().c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
@@ -361,58 +362,32 @@ std::string AllocationPlanner::report() const {
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
 // passes left out and (u64 n, n × i128) for each of the two left-out sums.
-namespace {
-template <class T> void put(std::string& out, const T& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
-template <class T> void putVector(std::string& out, const std::vector<T>& v) {
-    put(out, uint64_t(v.size()));
-    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-struct Reader {
-    const std::string& s;
-    size_t at = 0;
-    template <class T> T get() {
-        if (s.size() - at < sizeof(T)) throw std::runtime_error("allocation state is truncated");
-        T v;
-        std::memcpy(&v, s.data() + at, sizeof v);
-        at += sizeof v;
-        return v;
-    }
-    template <class T> std::vector<T> getVector(size_t most) {
-        uint64_t n = get<uint64_t>();
-        if (n > most || (s.size() - at) / sizeof(T) < n) throw std::runtime_error("allocation state is malformed");
-        std::vector<T> v(n);
-        if (n > 0) std::memcpy(v.data(), s.data() + at, n * sizeof(T));
-        at += n * sizeof(T);
-        return v;
-    }
-};
-}  // namespace
 
 std::string AllocationPlanner::saveState() const {
     std::string out = "BAP2";
-    put(out, int32_t(pilotChoice_));
-    put(out, int32_t(chosen_));
-    put(out, int32_t(duelists_[0]));
-    put(out, int32_t(duelists_[1]));
-    put(out, int32_t(collected_));
-    put(out, int32_t(passes_));
-    put(out, int32_t(width_));
-    put(out, int32_t(height_));
-    put(out, samples_);
-    for (double m : moments_) put(out, m);
-    for (uint64_t c : counters_) put(out, c);
+    putBytes(out, int32_t(pilotChoice_));
+    putBytes(out, int32_t(chosen_));
+    putBytes(out, int32_t(duelists_[0]));
+    putBytes(out, int32_t(duelists_[1]));
+    putBytes(out, int32_t(collected_));
+    putBytes(out, int32_t(passes_));
+    putBytes(out, int32_t(width_));
+    putBytes(out, int32_t(height_));
+    putBytes(out, samples_);
+    for (double m : moments_) putBytes(out, m);
+    for (uint64_t c : counters_) putBytes(out, c);
     putVector(out, sum_);
     putVector(out, sumSq_);
     putVector(out, weights_);
     duel_.save(out);
-    put(out, int32_t(leftOutPasses_));
+    putBytes(out, int32_t(leftOutPasses_));
     for (const std::vector<FixedSum>& v : leftOut_) putVector(out, v);
     return out;
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
     if (state.size() < 4 || state.compare(0, 4, "BAP2") != 0) throw std::runtime_error("not an allocation state");
-    Reader r{state, 4};
+    StateReader r{state, 4};
     const int pilotChoice = r.get<int32_t>(), chosen = r.get<int32_t>();
     const int duelist0 = r.get<int32_t>(), duelist1 = r.get<int32_t>();
     const int collected = r.get<int32_t>(), passes = r.get<int32_t>();
@@ -430,7 +405,7 @@ void AllocationPlanner::loadState(const std::string& state) {
     sum_ = r.getVector<double>(values);
     sumSq_ = r.getVector<double>(values);
     weights_ = r.getVector<float>(values);
-    duel_.load(state, r.at, values);
+    duel_.load(r, values);
     const int leftOutPasses = r.get<int32_t>();
     std::vector<FixedSum> leftOut[2];
     for (std::vector<FixedSum>& v : leftOut) {

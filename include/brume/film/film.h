@@ -59,9 +59,7 @@ public:
     void clear();
 
     // The exact sums (see the file comment), 3 per pixel, row-major, top row first.
-    typedef FixedSum Sum;
-    static Sum toFixed(float v) { return brume::toFixed(v); }
-    static double fromFixed(Sum s) { return brume::fromFixed(s); }
+    typedef FixedSum Sum;  // toFixed, fromFixed: math/fixed_sum.h
 
     // The raw state, for checkpoints and for combining renders of disjoint passes (MPI
     // ranks): the sums, the pass count and whether there were splats. restore() puts such a

@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include "brume/integrators/state_bytes.h"
+
 namespace brume {
 
 class AllocationDuel {
@@ -48,7 +50,7 @@ public:
     double mean(int c) const { return passes_[c] > 0 ? mean_[c] / passes_[c] : 0.0; }
 
     void save(std::string& out) const;
-    void load(const std::string& in, size_t& at, size_t values);  // std::runtime_error if malformed
+    void load(StateReader& reader, size_t values);  // std::runtime_error if malformed
 
 private:
     std::vector<float> first_[kLevels];  // the first batch of the current pair, per level (sums)

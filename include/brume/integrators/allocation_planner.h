@@ -136,7 +136,6 @@ private:
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)
     int duelists_[2] = {-1, -1};    // the best bidirectional allocation and the path tracer
     AllocationDuel duel_;
-    double duelVariance_[2] = {0, 0};  // the relative variance at equal time, as decided (report)
     // Exact sums of passes (3 per pixel): [0] the pilot's and the first duelist's, [1] the
     // second duelist's; after the choice [0] alone, what the image may leave out.
     std::vector<FixedSum> leftOut_[2];

@@ -277,8 +277,14 @@ TEST_CASE("auto's saved state: foreign, truncated or trailing bytes are rejected
     std::string bad = state;
     bad[4] = char(100);  // chosen = 100: no such candidate
     CHECK_THROWS_AS(b.loadState(bad), std::runtime_error);
-    // A fixed tracer keeps no state and takes none.
+    // A fixed tracer keeps only light tracing's learned share (direct_light_tracing.h), and
+    // takes no allocation state.
     BdptIntegrator fixed(BdptOptions{});
-    CHECK(fixed.saveState().empty());
+    CHECK(fixed.saveState().compare(0, 4, "BDL1") == 0);
     CHECK_THROWS_AS(fixed.loadState(state), std::runtime_error);
+    BdptOptions plain;
+    plain.directLightTracing = 1.0;
+    BdptIntegrator given(plain);
+    CHECK(given.saveState().empty());
+    CHECK_THROWS_AS(given.loadState(state), std::runtime_error);
 }

@@ -13,6 +13,7 @@
 #include <mutex>
 
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
@@ -46,6 +47,14 @@ struct Checker : BdptObserver {
     double connectP = 1;   // BdptOptions::generalConnection (0 without light subpaths)
     double cameraCount = 1;  // camera connections made per sample (0: no light tracing or no light subpaths)
     bool eaLight = true, eaCamera = true;  // BdptOptions::equiAngularLight, equiAngularCamera
+    // Light tracing's share of one-event paths (MisSettings::directLightTracing): this, or
+    // the integrator's learned factor in force (direct_light_tracing.h).
+    double directFactor = 1;
+    const BdptIntegrator* integrator = nullptr;
+    double lightTracingFactor() const {
+        const DirectLightTracing* d = integrator ? integrator->directLightTracing() : nullptr;
+        return d ? d->factor() : directFactor;
+    }
     mutable std::mutex mutex;
     mutable double worst = 0, worstTolerance = 1e-4;  // the worst error relative to its tolerance
     mutable long paths = 0;
@@ -259,6 +268,8 @@ struct Checker : BdptObserver {
                 if (tt >= 2 && ss >= 2) prod *= connectP;
                 // A camera connection is made cameraCount times (1 or 0).
                 if (tt == 1) prod *= cameraCount;
+                // On paths of one scattering event, times light tracing's share.
+                if (tt == 1 && k == 2) prod *= lightTracingFactor();
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
                 sum += termFf + termEa;
                 if (tt == t && c == hero) self = equiAngular ? termEa : termFf;
@@ -309,7 +320,8 @@ struct Checker : BdptObserver {
 namespace {
 
 void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
-                  bool general = false, float connectP = 1, const BdptAllocation* allocation = nullptr) {
+                  bool general = false, float connectP = 1, const BdptAllocation* allocation = nullptr,
+                  double directFactor = -1) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
@@ -331,13 +343,17 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
             checker.eaLight = allocation->equiAngularLight;
             checker.eaCamera = allocation->equiAngularCamera;
         }
+        opt.directLightTracing = directFactor;
+        if (directFactor >= 0) checker.directFactor = directFactor;
         opt.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
         o.width = o.height = kW;
         o.spp = spp;
         o.seed = 3;
-        render(*scene, BdptIntegrator(opt), o, film);
+        BdptIntegrator integrator(opt);
+        checker.integrator = &integrator;
+        render(*scene, integrator, o, film);
         INFO(file << (h == MisHeuristic::Power ? " power" : " balance") << (allocation ? " " + allocation->name() : "")
                   << ": " << checker.paths
                   << " weighted paths, worst |w − w_expected| = " << checker.worst << " (" << checker.worstInfo << ")");
@@ -451,4 +467,16 @@ TEST_CASE("bdpt MIS weights in heterogeneous media", "[bdpt][mis][heterogeneous]
     }
     checkWeights("single_gradient.gltf", 4, ConnectMode::Mis, false, true);
     checkWeights("furnace_grid_chromatic.gltf", 1, ConnectMode::Mis);
+}
+
+// Light tracing's share of paths of one scattering event (direct_light_tracing.h): given, and
+// learned in the first passes (then in force from the fifth), in every connect mode.
+TEST_CASE("bdpt MIS weights with light tracing's share of one-event paths scaled", "[bdpt][mis]") {
+    for (ConnectMode m : {ConnectMode::Density, ConnectMode::Mis, ConnectMode::EquiAngular, ConnectMode::Product}) {
+        checkWeights("quad_light_fog.gltf", 4, m, false, false, 0.25f, nullptr, 0.05);
+        checkWeights("single_spot.gltf", 4, m, false, false, 0.25f, nullptr, 0.05);
+        checkWeights("area_sphere.gltf", 4, m, false, false, 0.25f, nullptr, 0.05);
+        checkWeights("bdpt_glass_sphere.gltf", 16, m, false, false, 0.25f);  // learned
+        checkWeights("quad_light_fog_chromatic.gltf", 8, m, false, false, 0.25f);  // learned
+    }
 }

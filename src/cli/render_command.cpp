@@ -19,6 +19,7 @@
 #include "brume/cli/commands.h"
 #include "brume/cli/distributed_render.h"
 #include "brume/integrators/allocation_planner.h"
+#include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
@@ -92,7 +93,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.allocation = v; });
     app.add_flag_callback("--stats", [&] { a.stats = true; },
                           "auto: after the summary line, every candidate allocation's estimated relative variance, "
-                          "cost and efficiency");
+                          "cost and efficiency; bdpt: light tracing's learned share of one-scattering paths");
     addOption(app, "--mis", "HEURISTIC", "bdpt: power (the default) or balance", [&](const std::string& v) {
         if (v == "power") a.heuristic = MisHeuristic::Power;
         else if (v == "balance") a.heuristic = MisHeuristic::Balance;
@@ -457,7 +458,11 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         plan.lastPass = a.seconds > 0 ? -1 : a.spp;
         plan.timeBudget = a.seconds;
         // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
-        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1) : donePasses;
+        // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h).
+        const bool learns = a.integrator == "bdpt" && static_cast<const BdptIntegrator&>(integrator).directLightTracing();
+        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1)
+                        : learns                    ? std::max(donePasses, DirectLightTracing::kPasses)
+                                                    : donePasses;
         options.progress = false;
         auto interrupted = [&] {
             if (lead && a.stopAfterPasses > 0 && film.passes() - donePasses >= a.stopAfterPasses) ::raise(SIGTERM);
@@ -510,6 +515,10 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         planner->chosen().applyTo(bdptOptions);
         bdptOptions.efficiencyAware = false;
     }
+    // With bdpt, those of light tracing's learned share.
+    const DirectLightTracing* direct =
+        a.integrator == "bdpt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
+    if (direct) bdptOptions.directLightTracing = direct->factor();
     if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
@@ -518,6 +527,10 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
+    if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
+        std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
+                    "camera side %.4g, light tracing %.4g)\n",
+                    direct->factor(), direct->cameraVariance(), direct->lightVariance());
     if (group.distributed()) {
         // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
         // rendering time over the busiest one's.

@@ -44,27 +44,11 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
             for (int c = 0; c < 3; ++c) image[3 * (size_t(r.y) * size_t(s.width) + size_t(r.x)) + size_t(c)] += r.value[c];
 }
 
-namespace {
-
-// Adds a pass's image to exact sums as the film adds it: each sample and each splat on its own.
-void addExact(const PassSummary& s, std::vector<FixedSum>& sums) {
-    const size_t n = size_t(s.width) * size_t(s.height);
-    if (sums.size() != 3 * n) sums.assign(3 * n, FixedSum(0));
-    for (size_t i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) sums[3 * i + size_t(c)] += toFixed(s.radiance[i][c]);
-    for (int l = 0; l < s.splatLists; ++l)
-        for (const SplatList::Record& r : s.splats[l].records())
-            if (r.x >= 0 && r.y >= 0 && r.x < s.width && r.y < s.height)
-                for (int c = 0; c < 3; ++c) sums[3 * (size_t(r.y) * size_t(s.width) + size_t(r.x)) + size_t(c)] += toFixed(r.value[c]);
-}
-
-}  // namespace
-
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
     if (chosen_ < 0 && s.pass <= kLastDecisionPass) {
         const bool second = dueling() && s.pass >= kDuelStart + AllocationDuel::kPasses;
-        addExact(s, leftOut_[second ? 1 : 0]);
+        addPassExact(s, leftOut_[second ? 1 : 0]);
         if (!second) ++leftOutPasses_;
     }
     if (s.pass > kDecisionPass) {

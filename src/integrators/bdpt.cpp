@@ -7,6 +7,7 @@
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt_strategies.h"
 #include "brume/integrators/bdpt_subpaths.h"
+#include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/sample_dimensions.h"
 
 namespace brume {
@@ -37,12 +38,16 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect);
         planner_->allocationFor(0).applyTo(options_);
+    } else if (options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer && options_.lightSubpaths &&
+               options_.lightTracing) {
+        direct_ = std::make_unique<DirectLightTracing>();
     }
 }
 
 BdptIntegrator::~BdptIntegrator() = default;
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
+    learningDirect_ = direct_ && direct_->learning(pass);
     if (!planner_) return;
     // The path tracer samples distances by an emitter's solid angle, which the bidirectional
     // tracer does not: only its own samples show what that is worth.
@@ -53,27 +58,49 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     collecting_ = planner_->collects(pass);
 }
 
+// The learning passes of light tracing's factor sample independently, like the planner's
+// pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
+// passes after them start the sequence at 0, whole, when the image leaves them out.
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
+    if (direct_) return pass < DirectLightTracing::kPasses ? SamplerKind::Independent : requested;
     return planner_ ? planner_->samplerFor(pass, requested) : requested;
 }
 
 uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
+    if (direct_)
+        return uint64_t(kind == SamplerKind::Sobol && pass >= DirectLightTracing::kPasses ? pass - DirectLightTracing::kPasses : pass);
     return planner_ ? AllocationPlanner::sequenceIndex(pass, kind) : uint64_t(pass);
 }
 
 Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
+    // The learning passes of light tracing's factor, once learned (independent numbers, with
+    // c = 1; their noise against the others' is not measured).
+    if (direct_ && direct_->passes() == DirectLightTracing::kPasses)
+        return LeftOutPasses{direct_->passes(), &direct_->passSums(), 0.0};
     if (!planner_ || planner_->leftOutPasses() == 0) return {};
     return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
-std::string BdptIntegrator::saveState() const { return planner_ ? planner_->saveState() : std::string(); }
+std::string BdptIntegrator::saveState() const {
+    if (planner_) return planner_->saveState();
+    std::string out;
+    if (direct_) {
+        out = "BDL1";
+        direct_->save(out);
+    }
+    return out;
+}
 
 void BdptIntegrator::loadState(const std::string& state) {
-    if (!planner_) {
+    if (planner_) return planner_->loadState(state);
+    if (!direct_) {
         if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
         return;
     }
-    planner_->loadState(state);
+    if (state.compare(0, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
+    StateReader reader{state, 4};
+    direct_->load(reader);
+    if (reader.at != state.size()) throw std::runtime_error("light tracing state is malformed");
 }
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
@@ -125,6 +152,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? 1.0 : 0.0;
     mis.equiAngularLight = options_.equiAngularLight;
     mis.equiAngularCamera = options_.equiAngularCamera;
+    if (direct_) mis.directLightTracing = direct_->factor();
+    else if (options_.directLightTracing >= 0 && !options_.efficiencyAware) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);
@@ -135,8 +164,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const bool collect = collecting_ && weighted && AllocationPlanner::collectsPixel(px, py);
     thread_local std::vector<WeightRecord> records;
     records.clear();
+    // direct_light_tracing.h's learning passes: one-event paths weighted per family alone too.
+    Spectrum directCamera(0.0f);
+    const bool learning = learningDirect_ && weighted;
+    if (learning) direct_->ensureImages(width, height);
     const StrategyContext c{scene,  options_, mis,   camera, nCamera, light, nLight, weighted,
-                            sampler, stats,   width, height, collect ? &records : nullptr};
+                            sampler, stats,   width, height, collect ? &records : nullptr,
+                            learning ? direct_.get() : nullptr, &directCamera};
 
     Spectrum L(0.0f);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
@@ -168,6 +202,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             }
         }
     }
+    if (learning) direct_->addCamera(std::min(px, width - 1), std::min(py, height - 1), directCamera);
     if (collect) {
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
@@ -187,6 +222,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
 void BdptIntegrator::endPass(const Scene&, const PassSummary& summary) {
     if (planner_) planner_->endPass(summary);
+    if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
     if (!summary.complete) return;
     for (int k = 0; k < 4; ++k) {
         lastPass_.freeFlight[k] = summary.totals.counters[strategyCounter(StrategyKind(k), false)];

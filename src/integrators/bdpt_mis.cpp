@@ -196,6 +196,11 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     using RC = ChannelsOf<Real>;
     const MisHeuristic h = st.heuristic;
     const int k = s + t - 1;  // vertices x0 … xk
+    // Paths of one scattering event: the camera connection's count times the learned factor
+    // (no prefix is read for them, so every term below sees it), or 0 for the camera side
+    // alone.
+    const bool lightTracingAlone = k == 2 && st.directAlone == MisSettings::Alone::LightTracing;
+    if (k == 2) st.cameraConnection *= st.directAlone == MisSettings::Alone::CameraSide ? 0.0 : st.directLightTracing;
     auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
     auto crossed = [&](int m) {  // the edge x(m−1)–x(m)
         if (m < t) return camera[m].edgeCrossed;
@@ -284,7 +289,8 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
             q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : Real(0)) + q);
         }
         Real cf = ownEquiAngular && t >= 2 && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(1);
-        sum += cf * q;
+        // (Light tracing alone: t = 1, and q holds every other strategy.)
+        if (!lightTracingAlone) sum += cf * q;
         // Over channels: the other channels' densities of every strategy relative to the
         // hero's of this one (docs/mis.md, "coloured media").
         total += misPower(h, Real(own[c])) * sum;

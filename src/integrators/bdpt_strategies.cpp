@@ -186,6 +186,22 @@ float weigh(const StrategyContext& c, PathVertex* light, int s, int t, const Str
     return w;
 }
 
+// direct_light_tracing.h: a contribution to a path of one scattering event, weighted as if
+// its family of strategies were alone, into the learning images ((fx, fy): where light
+// tracing's lands).
+void learnDirect(const StrategyContext& c, PathVertex* light, int s, int t, const StrategyJoin& join, const Spectrum& value,
+                 float fx = 0, float fy = 0) {
+    if (!c.direct || s + t - 1 != 2) return;
+    MisSettings st = c.mis;
+    st.directAlone = t == 1 ? MisSettings::Alone::LightTracing : MisSettings::Alone::CameraSide;
+    const double w = strategyWeight(c.scene, light, s, c.camera, t, join, st);
+    if (!(w > 0) || !std::isfinite(w)) return;
+    if (t == 1)
+        c.direct->addLight(int(fx), int(fy), value * float(w));
+    else
+        *c.directCamera += value * float(w);
+}
+
 }  // namespace
 
 Spectrum emitterHit(const StrategyContext& c, int t) {
@@ -195,6 +211,7 @@ Spectrum emitterHit(const StrategyContext& c, int t) {
     if (isBlack(contrib)) return contrib;
     float w = weigh(c, c.light, 0, t, StrategyJoin{});
     record(c, nullptr, 0, t, StrategyJoin{}, contrib);
+    learnDirect(c, c.light, 0, t, StrategyJoin{}, contrib);
     return std::isfinite(w) ? counted(c, StrategyKind::EmitterHit, false, contrib * w) : Spectrum(0.0f);
 }
 
@@ -261,6 +278,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             const StrategyJoin join = joinOf(conn, ea, pea);
             w = weigh(c, &y0, 1, t, join);
             record(c, &y0, 1, t, join, contrib);
+            learnDirect(c, &y0, 1, t, join, contrib);
         }
         if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
     }
@@ -308,6 +326,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         const StrategyJoin join = joinOf(conn, ea, pea);
         float w = weigh(c, c.light, s, 1, join);
         record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
+        learnDirect(c, c.light, s, 1, join, value, cc.fx, cc.fy);
         if (std::isfinite(w)) splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * w), c.width, c.height);
     }
 }

@@ -67,6 +67,11 @@ struct BdptOptions {
     // (Without the camera walk's pass-through at the last scattering event --max-depth allows,
     // which only equi-angular light connections cover and which a candidate may turn off.)
     bool efficiencyAware = false;
+    // Light tracing's share of paths of one scattering event (MisSettings::directLightTracing):
+    // < 0 learns it from the first passes (direct_light_tracing.h; the fixed tracer with light
+    // tracing, all strategies); otherwise this factor (e.g. the learned one, for the strategy
+    // images of a render).
+    double directLightTracing = -1.0;
     const BdptObserver* observer = nullptr;
 };
 
@@ -86,6 +91,7 @@ constexpr int kCameraWalkRays = 8, kLightWalkRays = 9;
 inline int rayCounter(StrategyKind kind, bool equiAngular) { return 8 + 2 * int(kind) + (equiAngular ? 1 : 0); }
 
 class AllocationPlanner;
+class DirectLightTracing;
 
 class BdptIntegrator : public SplattingIntegrator {
 public:
@@ -106,6 +112,8 @@ public:
     const StrategyCounts& totalCounts() const { return total_; }
     // With BdptOptions::efficiencyAware, what it chose and why; else null.
     const AllocationPlanner* planner() const { return planner_.get(); }
+    // Without it, light tracing's learned share of one-event paths (direct_light_tracing.h).
+    const DirectLightTracing* directLightTracing() const { return direct_.get(); }
 
 private:
     BdptOptions options_;
@@ -113,6 +121,8 @@ private:
     std::unique_ptr<AllocationPlanner> planner_;
     PathTracer pathTracer_;  // for BdptOptions::pathTracer
     bool collecting_ = false;  // this pass records statistics (planner_)
+    std::unique_ptr<DirectLightTracing> direct_;
+    bool learningDirect_ = false;  // this pass gathers direct_'s images
 };
 
 }  // namespace brume

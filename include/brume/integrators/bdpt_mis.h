@@ -40,6 +40,16 @@ struct MisSettings {
     // density counted n times in every weight; one made 0 times drops out of them.
     double cameraConnection = 1.0;
     bool equiAngularLight = true, equiAngularCamera = true;
+    // On paths of one scattering event (camera, x1, light) only: a factor on the camera
+    // connection's count in every weight, learned by direct_light_tracing.h (variance-aware
+    // MIS; 1 = the plain heuristic). The camera connection is still made cameraConnection
+    // times; only its share of these paths changes, so the weights still sum to one.
+    double directLightTracing = 1.0;
+    // For direct_light_tracing.h's statistics, a one-event path weighted as if one family of
+    // its strategies were alone: the camera side (every strategy but the camera connection)
+    // or light tracing (the camera connection's variants only).
+    enum class Alone { None, CameraSide, LightTracing };
+    Alone directAlone = Alone::None;
 };
 
 // Whether the camera walk passes through media to make its vertex j, after a vertex that is

@@ -13,6 +13,7 @@
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/allocation_statistics.h"
 #include "brume/integrators/bdpt_mis.h"
+#include "brume/integrators/direct_light_tracing.h"
 
 namespace brume {
 
@@ -33,6 +34,11 @@ struct StrategyContext {
     // Non-null while the efficiency-aware tracer gathers statistics: every weighted
     // contribution is recorded there too (allocation_statistics.h).
     std::vector<WeightRecord>* records = nullptr;
+    // Non-null in direct_light_tracing.h's learning passes: contributions to one-event paths
+    // go there too, weighted as if their family were alone (light tracing's to its image,
+    // the camera side's summed into *directCamera, which the sample hands over).
+    DirectLightTracing* direct = nullptr;
+    Spectrum* directCamera = nullptr;
 };
 
 Spectrum emitterHit(const StrategyContext& c, int t);

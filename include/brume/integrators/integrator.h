@@ -41,6 +41,11 @@ struct PassSummary {
     int splatLists = 0;
 };
 
+// Adds a complete pass's image to exact sums (3 per pixel) as the film adds it: each sample
+// and each splat on its own. What an integrator keeps of passes the image may leave out
+// (Integrator::leftOut).
+void addPassExact(const PassSummary& summary, std::vector<FixedSum>& sums);
+
 // Russian roulette: the probability that a path with throughput beta (relative to `scale`)
 // goes on after `events` scattering events.
 //   Grey media: min(0.95, max β / scale), as always. The cap ends paths in non-absorbing media

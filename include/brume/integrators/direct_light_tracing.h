@@ -1,0 +1,103 @@
+// How much the bidirectional tracer trusts light tracing for single-scattered light: a
+// variance-aware MIS factor (Grittmann, Georgiev, Slusallek, Křivánek 2019), learned from
+// the render's own first passes.
+//
+// Why. A path camera → x1 → light (one scattering event) is made by the camera side (the
+// light connection, free-flight and equi-angular, and the emitter hit) and by light tracing
+// (the camera connection t = 1, free-flight and equi-angular towards the pinhole). Both
+// families sample x1 nearly in proportion to the integrand (1/r² at both ends), so the power
+// heuristic splits such paths by density, about evenly. But their errors differ: the camera
+// side is stratified per pixel (Sobol), light tracing lands at random pixels. On four fogs
+// nobody tuned on, single scattering, the plain weights gave 3.5–27× the error of the same
+// samples with light tracing's densities counted 1/100 (docs/results.md).
+//
+// The factor. Variance-aware MIS weighs technique k by c_k·p_k with c_k = 1/v_k, v_k the
+// variance of k used alone. Here two families: c = V_camera / V_light for the camera
+// connection's densities on paths of one scattering event (MisSettings::directLightTracing;
+// longer paths keep 1, where light tracing is what finds caustics and lights behind
+// occluders). V comes from the first kPasses passes, which still render with c = 1: each
+// contribution to a one-event path is also weighted as if its family were alone, and the two
+// "alone" images are kept per pass. Consecutive passes (0, 1) and (2, 3) are aligned pairs of
+// the pixel's sequence, so E[(a − b)²]/2 is the variance of a pass (the duel's argument,
+// allocation_duel.h: exact for independent numbers, within 1.75× for a scrambled net), per
+// pixel and channel in relative terms (weight 1/(Ī² + ε), Ī the pair's mean of both
+// families). A median over kGroups interleaved pixel groups keeps one firefly from deciding.
+//
+// Limits. c stays within [kFloor, 1]. Never above 1: light tracing measured better than the
+// camera side in four passes may be a light tracing that has not yet met its rare splats.
+// Not below kFloor = 1/64: with 1e-4 the fog room (val_fog_room, single scattering) lost
+// the paths where light tracing's density is 10⁴× the camera side's, a heavy tail that four
+// passes rarely show (relative MSE 9.2e-6 at 1/100, 5.0e-5 at 1e-4, one seed of two).
+//
+// The learning passes render with c = 1, as many times noisier there as c gains (4 of 64
+// passes held half the error of a 64-spp render of the thin lamp). So they are kept apart,
+// as exact sums, and the image leaves them out once the others far outnumber them
+// (Integrator::leftOut, render/renderer.h finalImage).
+//
+// Deterministic: the camera-side image is written by each pixel's own sample; light
+// tracing's lands anywhere and is summed in 64-bit fixed point (order-free); the factor is
+// set at a pass boundary. Saved in checkpoints.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "brume/integrators/integrator.h"
+#include "brume/integrators/state_bytes.h"
+#include "brume/math/vec3.h"
+
+namespace brume {
+
+class DirectLightTracing {
+public:
+    static constexpr int kPasses = 4;      // learning passes: two aligned pairs
+    static constexpr int kGroups = 9;      // pixel groups of the median
+    static constexpr double kFloor = 1.0 / 64.0;
+
+    // Whether pass `pass` gathers the alone images (call with the pass before it runs).
+    bool learning(int pass) const { return pass < kPasses && passes_ == pass; }
+    // The factor in force (1 while learning).
+    double factor() const { return factor_; }
+    // V_camera and V_light as measured (0 until learned).
+    double cameraVariance() const { return variance_[0]; }
+    double lightVariance() const { return variance_[1]; }
+
+    // The images of a width × height render, made by the first sample that needs them (any
+    // thread; they are cleared after each learning pass).
+    void ensureImages(int width, int height);
+    // The camera side's alone estimate of one-event paths for pixel (x, y): one call per
+    // sample, from that pixel's own sample.
+    void addCamera(int x, int y, const Spectrum& v);
+    // Light tracing's alone estimate landing in pixel (x, y) (any thread).
+    void addLight(int x, int y, const Spectrum& v);
+    // After the learning pass completed: its images into the pair statistics; after the last,
+    // the factor.
+    void endPass(const PassSummary& summary);
+    // After a learning pass that was abandoned: its images are thrown away.
+    void discardPass();
+
+    // The learning passes' exact sums as the film added them (3 per pixel), and how many.
+    const std::vector<FixedSum>& passSums() const { return passSums_; }
+    int passes() const { return passes_; }
+
+    void save(std::string& out) const;
+    void load(StateReader& reader);  // std::runtime_error if malformed
+
+private:
+    std::mutex mutex_;
+    std::atomic<bool> ready_{false};
+    int width_ = 0, height_ = 0;
+    int passes_ = 0;  // learning passes completed
+    double factor_ = 1.0;
+    double variance_[2] = {0, 0};
+    std::vector<float> camera_;                       // this pass, 3 per pixel
+    std::unique_ptr<std::atomic<int64_t>[]> light_;   // this pass, fixed point, 3 per pixel
+    std::vector<float> first_[2];                     // the pair's first pass, both families
+    double squares_[2][kGroups] = {};                 // Σ w·(a − b)²/2 per family and pixel group
+    std::vector<FixedSum> passSums_;
+};
+
+}  // namespace brume

@@ -38,10 +38,13 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect);
         planner_->allocationFor(0).applyTo(options_);
-    } else if (options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer && options_.lightSubpaths &&
-               options_.lightTracing) {
-        direct_ = std::make_unique<DirectLightTracing>();
     }
+    // auto learns it in its pilot passes (which have light tracing and independent numbers);
+    // the planner's statistics there are those of the plain weights, and from the duel on every
+    // allocation with light tracing renders with the learned factor.
+    if (options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer && options_.lightSubpaths &&
+        options_.lightTracing)
+        direct_ = std::make_unique<DirectLightTracing>();
 }
 
 BdptIntegrator::~BdptIntegrator() = default;
@@ -61,46 +64,62 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
 // The learning passes of light tracing's factor sample independently, like the planner's
 // pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
 // passes after them start the sequence at 0, whole, when the image leaves them out.
+// (auto: its pilot's passes are these.)
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
+    if (planner_) return planner_->samplerFor(pass, requested);
     if (direct_) return pass < DirectLightTracing::kPasses ? SamplerKind::Independent : requested;
-    return planner_ ? planner_->samplerFor(pass, requested) : requested;
+    return requested;
 }
 
 uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
+    if (planner_) return AllocationPlanner::sequenceIndex(pass, kind);
     if (direct_)
         return uint64_t(kind == SamplerKind::Sobol && pass >= DirectLightTracing::kPasses ? pass - DirectLightTracing::kPasses : pass);
-    return planner_ ? AllocationPlanner::sequenceIndex(pass, kind) : uint64_t(pass);
+    return uint64_t(pass);
 }
 
 Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     // The learning passes of light tracing's factor, once learned (independent numbers, with
     // c = 1; their noise against the others' is not measured).
-    if (direct_ && direct_->passes() == DirectLightTracing::kPasses)
+    if (!planner_ && direct_ && direct_->passes() == DirectLightTracing::kPasses)
         return LeftOutPasses{direct_->passes(), &direct_->passSums(), 0.0};
     if (!planner_ || planner_->leftOutPasses() == 0) return {};
     return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
+// State: the planner's (auto), as u64 size + bytes, then "BDL1" and light tracing's share.
 std::string BdptIntegrator::saveState() const {
-    if (planner_) return planner_->saveState();
     std::string out;
+    if (planner_) {
+        const std::string p = planner_->saveState();
+        putBytes(out, uint64_t(p.size()));
+        out += p;
+    }
     if (direct_) {
-        out = "BDL1";
+        out += "BDL1";
         direct_->save(out);
     }
     return out;
 }
 
 void BdptIntegrator::loadState(const std::string& state) {
-    if (planner_) return planner_->loadState(state);
-    if (!direct_) {
+    if (!planner_ && !direct_) {
         if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
         return;
     }
-    if (state.compare(0, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
-    StateReader reader{state, 4};
-    direct_->load(reader);
-    if (reader.at != state.size()) throw std::runtime_error("light tracing state is malformed");
+    StateReader reader{state, 0};
+    if (planner_) {
+        const uint64_t n = reader.get<uint64_t>();
+        if (n > state.size() - reader.at) throw std::runtime_error("allocation state is truncated");
+        planner_->loadState(state.substr(reader.at, n));
+        reader.at += n;
+    }
+    if (direct_) {
+        if (state.compare(reader.at, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
+        reader.at += 4;
+        direct_->load(reader);
+    }
+    if (reader.at != state.size()) throw std::runtime_error("integrator state has trailing bytes");
 }
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
@@ -153,7 +172,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     mis.equiAngularLight = options_.equiAngularLight;
     mis.equiAngularCamera = options_.equiAngularCamera;
     if (direct_) mis.directLightTracing = direct_->factor();
-    else if (options_.directLightTracing >= 0 && !options_.efficiencyAware) mis.directLightTracing = options_.directLightTracing;
+    else if (options_.directLightTracing >= 0) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
         misPrefixes(scene, light, nLight, false, mis);

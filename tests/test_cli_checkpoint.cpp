@@ -171,6 +171,26 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     }
 }
 
+// bdpt learns light tracing's share of one-scattering paths in its first four passes
+// (direct_light_tracing.h), which the image leaves out once the others are 4× as many:
+// stopped inside the learning, after it, and after a pass with the learned factor, it
+// resumes to the same bytes.
+TEST_CASE("cli checkpoint: bdpt resumes to the same bytes across its learning passes", "[cli][checkpoint]") {
+    TempDir dir;
+    const Args common = {data("bdpt_quad_fogbox.gltf"), "--integrator", "bdpt", "--res", "40x30", "--spp", "24"};
+    const std::string ckpt = dir / "c.ckpt";
+    Result r = run(common + Args{"-o", dir / "straight.pfm", "--stats"});
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("light tracing's share of one-scattering paths: factor") != std::string::npos);
+    for (const char* stop : {"1", "3", "4", "5"}) {
+        INFO("stopped after " << stop << " passes");
+        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
+    }
+}
+
 TEST_CASE("cli checkpoint: SIGINT and SIGTERM write whole passes and exit with 130 and 143", "[cli][checkpoint]") {
     for (int sig : {SIGINT, SIGTERM}) {
         INFO("signal " << sig);

@@ -275,7 +275,7 @@ TEST_CASE("auto's saved state: foreign, truncated or trailing bytes are rejected
     CHECK_THROWS_AS(b.loadState(state.substr(0, state.size() - 5)), std::runtime_error);
     CHECK_THROWS_AS(b.loadState(state + "x"), std::runtime_error);
     std::string bad = state;
-    bad[8 + 4] = char(100);  // chosen = 100: no such candidate (after the planner state's size)
+    bad[4] = char(100);  // chosen = 100: no such candidate
     CHECK_THROWS_AS(b.loadState(bad), std::runtime_error);
     // A fixed tracer keeps only light tracing's learned share (direct_light_tracing.h), and
     // takes no allocation state.

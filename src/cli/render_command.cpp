@@ -516,9 +516,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         bdptOptions.efficiencyAware = false;
     }
     // With bdpt, those of light tracing's learned share.
-    const DirectLightTracing* direct = a.integrator == "bdpt" || a.integrator == "auto"
-                                           ? static_cast<const BdptIntegrator&>(integrator).directLightTracing()
-                                           : nullptr;
+    const DirectLightTracing* direct =
+        a.integrator == "bdpt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
     if (direct) bdptOptions.directLightTracing = direct->factor();
     if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 

@@ -51,6 +51,8 @@ struct Checker : BdptObserver {
     // the integrator's learned factor in force (direct_light_tracing.h).
     double directFactor = 1;
     const BdptIntegrator* integrator = nullptr;
+    // With --max-depth 1 light subpaths are made as often as light tracing's learned share.
+    double lightSubpathsMade() const { return integrator ? integrator->lightSubpathsMade() : 1.0; }
     double lightTracingFactor() const {
         const DirectLightTracing* d = integrator ? integrator->directLightTracing() : nullptr;
         return d ? d->factor() : directFactor;
@@ -267,7 +269,7 @@ struct Checker : BdptObserver {
                 // A general connection is made with probability connectP: its densities count that much.
                 if (tt >= 2 && ss >= 2) prod *= connectP;
                 // A camera connection is made cameraCount times (1 or 0).
-                if (tt == 1) prod *= cameraCount;
+                if (tt == 1) prod *= cameraCount * lightSubpathsMade();
                 // On paths of one scattering event, times light tracing's share.
                 if (tt == 1 && k == 2) prod *= lightTracingFactor();
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
@@ -321,10 +323,11 @@ namespace {
 
 void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
                   bool general = false, float connectP = 1, const BdptAllocation* allocation = nullptr,
-                  double directFactor = -1) {
+                  double directFactor = -1, int maxDepth = 4) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
+        checker.maxDepth = maxDepth;
         checker.scene = scene.get();
         checker.heuristic = h;
         checker.connect = connect;
@@ -478,5 +481,8 @@ TEST_CASE("bdpt MIS weights with light tracing's share of one-event paths scaled
         checkWeights("area_sphere.gltf", 4, m, false, false, 0.25f, nullptr, 0.05);
         checkWeights("bdpt_glass_sphere.gltf", 16, m, false, false, 0.25f);  // learned
         checkWeights("quad_light_fog_chromatic.gltf", 8, m, false, false, 0.25f);  // learned
+        // Single scattering: light subpaths then made as often as the learned share too.
+        checkWeights("single_near.gltf", 16, m, false, false, 0.25f, nullptr, -1, 1);
+        checkWeights("quad_light_fog.gltf", 16, m, false, false, 0.25f, nullptr, -1, 1);
     }
 }

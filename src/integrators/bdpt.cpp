@@ -66,6 +66,10 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
 // The learning passes of light tracing's factor sample independently, like the planner's
 // pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
 // passes after them start the sequence at 0, whole, when the image leaves them out.
+double BdptIntegrator::lightSubpathsMade() const {
+    return direct_ && !learningDirect_ && options_.maxDepth == 1 ? direct_->subpathShare() : 1.0;
+}
+
 // (auto: its pilot's passes are these.)
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
     if (planner_) return planner_->samplerFor(pass, requested);
@@ -149,7 +153,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const Sampler lightSampler = sampler.imageWide(uint64_t(std::min(int(fy), height - 1)) * uint64_t(width) +
                                                        uint64_t(std::min(int(fx), width - 1)),
                                                    uint64_t(width) * uint64_t(height));
-    const int nLight = options_.lightSubpaths ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
+    // In single scattering light subpaths serve light tracing alone: made as often as its
+    // learned share (lightSubpathsMade), chosen by a number of the image-wide sequence.
+    const double lightMade = lightSubpathsMade();
+    const bool traced = options_.lightSubpaths && (lightMade >= 1.0 || lightSampler.get1D(dim::kLightStart + dim::kMade) < lightMade);
+    const int nLight = traced ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
     stats.counters[kCameraWalkRays] += rays1 - rays0;
     stats.counters[kLightWalkRays] += stats.rays - rays1;
 
@@ -158,7 +166,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                     options_.generalEquiAngular, options_.generalConnection, width, height, channels, hero,
                     passFrom, passFirstAt};
     mis.generalConnection = options_.lightSubpaths ? options_.generalConnection : 0.0;
-    mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? 1.0 : 0.0;
+    mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? lightMade : 0.0;
     mis.equiAngularLight = options_.equiAngularLight;
     mis.equiAngularCamera = options_.equiAngularCamera;
     if (direct_) mis.directLightTracing = direct_->factor();

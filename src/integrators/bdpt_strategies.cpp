@@ -327,7 +327,10 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         float w = weigh(c, c.light, s, 1, join);
         record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
         learnDirect(c, c.light, s, 1, join, value, cc.fx, cc.fy);
-        if (std::isfinite(w)) splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * w), c.width, c.height);
+        // (Made cameraConnection ≤ 1 times per sample on average: counted 1/that.)
+        if (std::isfinite(w))
+            splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * (w / float(c.mis.cameraConnection))),
+                         c.width, c.height);
     }
 }
 

@@ -114,6 +114,11 @@ public:
     const AllocationPlanner* planner() const { return planner_.get(); }
     // Without it, light tracing's learned share of one-event paths (direct_light_tracing.h).
     const DirectLightTracing* directLightTracing() const { return direct_.get(); }
+    // The probability that a sample of the pass in force traces a light subpath: with
+    // --max-depth 1, where light subpaths serve light tracing alone, its learned subpath share
+    // (DirectLightTracing::subpathShare; camera connections then count that many times in the
+    // weights and 1/that in the image); 1 otherwise.
+    double lightSubpathsMade() const;
 
 private:
     BdptOptions options_;

@@ -38,6 +38,7 @@
 // tracing's lands anywhere and is summed in 64-bit fixed point (order-free); the factor is
 // set at a pass boundary. Saved in checkpoints.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -61,6 +62,15 @@ public:
     bool learning(int pass) const { return pass < kPasses && passes_ == pass; }
     // The factor in force (1 while learning).
     double factor() const { return factor_; }
+    // How often a sample traces a light subpath where those serve only light tracing (single
+    // scattering): as often as light tracing's share, q = max(c, kLeastShare). A technique made
+    // q times per sample has q times its density in the weights and 1/q times its variance
+    // per sample, so variance-aware MIS counts it q·c. Made less often, it costs less: its
+    // subpath, two camera connections and their weights were about two thirds of a sample.
+    // Not below kLeastShare = 1/16, so that q·c ≥ 1/1024 keeps the heavy tails light tracing
+    // covers (see kFloor).
+    double subpathShare() const { return std::max(kLeastShare, factor_); }
+    static constexpr double kLeastShare = 1.0 / 16.0;
     // V_camera and V_light as measured (0 until learned).
     double cameraVariance() const { return variance_[0]; }
     double lightVariance() const { return variance_[1]; }

@@ -29,6 +29,7 @@ constexpr uint32_t kFilmJitter = 0;
 constexpr uint32_t kHeroChannel = 2;
 constexpr uint32_t kLightStart = 8;
 constexpr uint32_t kPosition = 1, kEmitDir = 3;  // after kPick (0)
+constexpr uint32_t kMade = 5;  // whether the light subpath is traced at all (bdpt_light_made)
 
 // Fields of a walk block (8 dimensions a vertex).
 constexpr uint32_t kDistance = 0, kChannel = 1, kDirection = 2, kLobe = 4, kRoulette = 5;

@@ -90,12 +90,12 @@ double worstRelativeDifference(const Film& full, const std::vector<Spectrum>& su
 }
 
 // Blocks of 2×2 pixels of a W×W image; blocks that show a point light directly are skipped.
-void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt, int batches) {
+void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt, int batches, int bdptBatches = 0) {
     auto scene = loadTestScene(file);
     PathTracer pt(PathTracerOptions{maxDepth, true, ConnectMode::Mis});
     BdptIntegrator bdpt(BdptOptions{maxDepth, MisHeuristic::Power});
     auto a = estimateFilm(*scene, pt, W, W, sppPt, batches, 1, 2);
-    auto b = estimateFilm(*scene, bdpt, W, W, sppBdpt, batches, 2, 2);
+    auto b = estimateFilm(*scene, bdpt, W, W, sppBdpt, bdptBatches > 0 ? bdptBatches : batches, 2, 2);
     std::string where;
     std::vector<bool> skip = pointLightBlocks(*scene, W, 2);
     double z = worstZ(a, b, skip, W / 2, &where);
@@ -106,8 +106,12 @@ void compareWithPt(const char* file, int maxDepth, int W, int sppPt, int sppBdpt
 }  // namespace
 
 TEST_CASE("bdpt matches pt at --max-depth 1 (single scattering and direct light)", "[bdpt]") {
-    compareWithPt("single_near.gltf", 1, 16, 64, 64, 16);
-    compareWithPt("single_spot.gltf", 1, 16, 64, 64, 16);
+    // (Under the spot, block (4, 5), bdpt's batch means of 64 spp spread by ±12 % and are
+    // skewed: 16 of them once gave 0.0330 ± 0.0004 against 0.0308 for both tracers at 4096
+    // spp, the standard error underestimated. So 64 batches of bdpt, and the path tracer at
+    // 256 spp a batch, the sharper side. Checked with ten other seed pairs.)
+    compareWithPt("single_near.gltf", 1, 16, 256, 64, 16, 64);
+    compareWithPt("single_spot.gltf", 1, 16, 256, 64, 16, 64);
     compareWithPt("area_quad.gltf", 1, 16, 64, 64, 16);
     compareWithPt("area_sphere.gltf", 1, 16, 64, 64, 16);
     compareWithPt("quad_light_fog.gltf", 1, 16, 64, 64, 16);
@@ -167,8 +171,10 @@ TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies 
 }
 
 TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
-    // Same seed, same random numbers whichever strategy is kept (BdptOptions::weighted).
-    for (const char* file : {"quad_light_fog.gltf", "bdpt_quad_fogbox.gltf", "single_near.gltf"}) {
+    // Same seed, same random numbers whichever strategy is kept (BdptOptions::weighted), and
+    // the same light tracing share of one-event paths, given (the plain weights, and 0.05).
+    for (const char* file : {"quad_light_fog.gltf", "bdpt_quad_fogbox.gltf", "single_near.gltf"})
+      for (double share : {1.0, 0.05}) {
         auto scene = loadTestScene(file);
         const int W = 12, depth = 3;
         RenderOptions o;
@@ -176,22 +182,25 @@ TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
         o.spp = 8;
         o.seed = 77;
         Film full(W, W);
-        render(*scene, BdptIntegrator(BdptOptions{depth, MisHeuristic::Power}), o, full);
+        BdptOptions whole{depth, MisHeuristic::Power};
+        whole.directLightTracing = share;
+        render(*scene, BdptIntegrator(whole), o, full);
         std::vector<Spectrum> sum(size_t(W) * W, Spectrum(0.0f));
         for (int d = 0; d <= depth; ++d)
             for (int s = 0; s <= d + 2; ++s) {
                 int t = d + 2 - s;
                 if (t < 1) continue;
                 BdptOptions opt{depth, MisHeuristic::Power, s, t, true};
+                opt.directLightTracing = share;
                 Film f(W, W);
                 render(*scene, BdptIntegrator(opt), o, f);
                 for (int y = 0; y < W; ++y)
                     for (int x = 0; x < W; ++x) sum[size_t(y) * W + x] += f.pixel(x, y);
             }
         double worst = worstRelativeDifference(full, sum, W);
-        INFO(file << ": worst relative difference " << worst);
+        INFO(file << ", share " << share << ": worst relative difference " << worst);
         CHECK(worst < 1e-4);
-    }
+      }
 }
 
 TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants add up to the image", "[bdpt]") {
@@ -204,6 +213,7 @@ TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants
         o.seed = 78;
         BdptOptions base{depth, MisHeuristic::Power};
         base.connect = mode;
+        base.directLightTracing = 0.05;  // (given: the parts do not learn it)
         Film full(W, W);
         render(*scene, BdptIntegrator(base), o, full);
         std::vector<Spectrum> sum(size_t(W) * W, Spectrum(0.0f));

@@ -101,7 +101,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     });
     addOption(app, "--strategy-images", "DIR",
               "bdpt: also write DIR/s<S>_t<T>.exr, each strategy's weighted contribution (they add up to "
-              "the image; one extra render each, for s + t - 2 up to min(max-depth, 5)); with --connect "
+              "the image, with the learned share of light tracing from the first pass; one extra render "
+              "each, for s + t - 2 up to min(max-depth, 5)); with --connect "
               "equiangular or mis, s<S>_t<T>_ff.exr and s<S>_t<T>_ea.exr, the free-flight and "
               "equi-angular variants, instead",
               [&](const std::string& v) { a.strategyDir = v; });

@@ -63,14 +63,13 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     collecting_ = planner_->collects(pass);
 }
 
-// The learning passes of light tracing's factor sample independently, like the planner's
-// pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
-// passes after them start the sequence at 0, whole, when the image leaves them out.
 double BdptIntegrator::lightSubpathsMade() const {
     return direct_ && !learningDirect_ && options_.maxDepth == 1 ? direct_->subpathShare() : 1.0;
 }
 
-// (auto: its pilot's passes are these.)
+// The learning passes of light tracing's factor sample independently, like the planner's
+// pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
+// passes after them start the sequence at 0, whole, when the image leaves them out.
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
     if (planner_) return planner_->samplerFor(pass, requested);
     if (direct_) return pass < DirectLightTracing::kPasses ? SamplerKind::Independent : requested;

@@ -89,8 +89,8 @@ void DirectLightTracing::discardPass() {
     for (size_t i = 0; i < camera_.size(); ++i) light_[i].store(0, std::memory_order_relaxed);
 }
 
-// State: i32 passes, f64 factor, f64 variances × 2, f64 squares × 2·kGroups, then the pair's
-// first pass (u64 n, n f32) × 2.
+// State: i32 passes, f64 factor, f64 variances × 2, f64 squares × 2·kGroups, the pair's
+// first pass (u64 n, n f32) × 2, then the learning passes' exact sums (u64 n, n × 128 bits).
 void DirectLightTracing::save(std::string& out) const {
     putBytes(out, int32_t(passes_));
     putBytes(out, factor_);

@@ -13,6 +13,7 @@
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/bdpt_allocation.h"
+#include "brume/integrators/direct_light_tracing.h"
 #include "brume/render/renderer.h"
 #include "brume/scene/camera_importance.h"
 #include "support/block_z.h"
@@ -178,6 +179,41 @@ TEST_CASE("auto falls back to the path tracer for single scattering in open fog"
     CHECK(p.chosen().pathTracer);
 }
 
+// In single scattering auto learns light tracing's share in its pilot passes, and its duel
+// always sets the pilot's allocation with that share against the path tracer; the one of
+// higher measured efficiency renders on, continuing its own Sobol sequence (each contender
+// took indices 0–7), and the image leaves out the pilot's passes (plain weights) with the
+// loser's.
+TEST_CASE("auto in single scattering duels the bidirectional tracer with light tracing's learned share", "[auto]") {
+    for (const char* name : {"single_near.gltf", "single_spot.gltf"}) {
+        auto scene = loadTestScene(name);
+        BdptIntegrator integrator(autoOptions(1));
+        const AllocationPlanner& p = plan(*scene, integrator, 32, 32);
+        INFO(name << ": " << p.report());
+        REQUIRE(p.learnedShare());
+        REQUIRE(p.decided());
+        REQUIRE(p.dueling());
+        REQUIRE(integrator.directLightTracing());
+        CHECK(integrator.directLightTracing()->passes() == DirectLightTracing::kPasses);
+        CHECK(p.candidates()[size_t(p.duelist(0))] == pilotAllocation());
+        CHECK(p.candidates()[size_t(p.duelist(1))].pathTracer);
+        const int won = p.chosen() == p.candidates()[size_t(p.duelist(0))] ? 0 : 1;
+        CHECK(p.duelEfficiency(won) >= p.duelEfficiency(1 - won));
+        CHECK(p.duelEfficiency(1 - won) > 0);
+        // Left out: the pilot's 4 passes and the loser's 8.
+        CHECK(p.leftOutPasses() == AllocationPlanner::kDuelStart + AllocationDuel::kPasses);
+        for (int pass = AllocationPlanner::kDuelStart; pass <= AllocationPlanner::kLastDecisionPass; ++pass)
+            CHECK(p.sequenceIndex(pass, SamplerKind::Sobol) == uint64_t((pass - AllocationPlanner::kDuelStart) % AllocationDuel::kPasses));
+        CHECK(p.sequenceIndex(kDecided, SamplerKind::Sobol) == uint64_t(AllocationDuel::kPasses));
+        CHECK(p.sequenceIndex(kDecided, SamplerKind::Independent) == uint64_t(kDecided));
+    }
+    // In full transport neither: the pilot's estimate chooses, and the duel only where close.
+    auto scene = loadTestScene("single_near.gltf");
+    BdptIntegrator full(autoOptions(-1));
+    CHECK_FALSE(full.planner()->learnedShare());
+    CHECK(full.directLightTracing() == nullptr);
+}
+
 // The image leaves out the pilot's and the duel loser's passes where they are noisier per
 // pass, or once the others are kLeftOutRatio times as many (with Sobol numbers): exactly
 // those sums, and not otherwise.
@@ -219,14 +255,17 @@ TEST_CASE("auto's image leaves out its pilot and the duel's loser once they are 
 
 TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
-    Rendered one = renderAuto(*scene, 40, 30, kDecided + 2, 1);
-    Rendered two = renderAuto(*scene, 40, 30, kDecided + 2, 2);
-    Rendered three = renderAuto(*scene, 40, 30, kDecided + 2, 3);
-    CHECK(one.chosen != "undecided");
-    CHECK(one.chosen == two.chosen);
-    CHECK(one.chosen == three.chosen);
-    CHECK(std::memcmp(one.rgb.data(), two.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
-    CHECK(std::memcmp(one.rgb.data(), three.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
+    for (int depth : {-1, 1}) {  // (single scattering: with light tracing's learned share)
+        INFO("max depth " << depth);
+        Rendered one = renderAuto(*scene, 40, 30, kDecided + 2, 1, depth);
+        Rendered two = renderAuto(*scene, 40, 30, kDecided + 2, 2, depth);
+        Rendered three = renderAuto(*scene, 40, 30, kDecided + 2, 3, depth);
+        CHECK(one.chosen != "undecided");
+        CHECK(one.chosen == two.chosen);
+        CHECK(one.chosen == three.chosen);
+        CHECK(std::memcmp(one.rgb.data(), two.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
+        CHECK(std::memcmp(one.rgb.data(), three.rgb.data(), one.rgb.size() * sizeof(float)) == 0);
+    }
 }
 
 // Stopped at any pass (in the pilot, in the duel, or after the choice), its state saved and
@@ -234,7 +273,8 @@ TEST_CASE("auto chooses the same and renders the same bits for any thread count"
 TEST_CASE("auto's state carries a render across a stop bit for bit", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     const int W = 40, H = 30, spp = kDecided + 2;
-    Rendered straight = renderAuto(*scene, W, H, spp, 2);
+    for (int depth : {-1, 1}) {  // (single scattering: with light tracing's learned share)
+    Rendered straight = renderAuto(*scene, W, H, spp, 2, depth);
     for (int stop : {1, 3, 4, 5, 11, 12, 13, kDecided - 1, kDecided, kDecided + 1}) {
         RenderOptions o;
         o.width = W;
@@ -244,19 +284,20 @@ TEST_CASE("auto's state carries a render across a stop bit for bit", "[auto]") {
         Film film(W, H);
         std::string state;
         {
-            BdptIntegrator first(autoOptions(-1));
+            BdptIntegrator first(autoOptions(depth));
             o.spp = stop;
             render(*scene, first, o, film);
             state = first.saveState();
         }
-        BdptIntegrator second(autoOptions(-1));
+        BdptIntegrator second(autoOptions(depth));
         second.loadState(state);
         o.spp = spp - stop;
         render(*scene, second, o, film);
-        INFO("stopped after pass " << stop);
+        INFO("max depth " << depth << ", stopped after pass " << stop);
         CHECK(second.planner()->chosen().name() == straight.chosen);
         std::vector<float> rgb = film.rgb();
         CHECK(std::memcmp(rgb.data(), straight.rgb.data(), rgb.size() * sizeof(float)) == 0);
+    }
     }
 }
 
@@ -277,6 +318,17 @@ TEST_CASE("auto's saved state: foreign, truncated or trailing bytes are rejected
     std::string bad = state;
     bad[4] = char(100);  // chosen = 100: no such candidate
     CHECK_THROWS_AS(b.loadState(bad), std::runtime_error);
+    // In single scattering auto's state holds the planner's and light tracing's share.
+    BdptIntegrator single(autoOptions(1));
+    Film singleFilm(16, 16);
+    render(*scene, single, o, singleFilm);
+    const std::string both = single.saveState();
+    BdptIntegrator single2(autoOptions(1));
+    CHECK_NOTHROW(single2.loadState(both));
+    CHECK_THROWS_AS(single2.loadState(both.substr(0, both.size() - 5)), std::runtime_error);
+    CHECK_THROWS_AS(single2.loadState(both + "x"), std::runtime_error);
+    CHECK_THROWS_AS(single2.loadState(state), std::runtime_error);
+    CHECK_THROWS_AS(b.loadState(both), std::runtime_error);
     // A fixed tracer keeps only light tracing's learned share (direct_light_tracing.h), and
     // takes no allocation state.
     BdptIntegrator fixed(BdptOptions{});

@@ -169,6 +169,17 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
         CHECK(r.code == 0);
         CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
     }
+    // In single scattering it also learns light tracing's share in its pilot passes.
+    const Args single = common + Args{"--max-depth", "1"};
+    r = run(single + Args{"-o", dir / "single.pfm"});
+    REQUIRE(r.code == 0);
+    for (const char* stop : {"3", "4", "12", "20", "21"}) {
+        INFO("single scattering, stopped after " << stop << " passes");
+        REQUIRE(run(single + Args{"-o", dir / "c.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        r = run(single + Args{"-o", dir / "c.pfm", "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(dir / "c.pfm") == readFile(dir / "single.pfm"));
+    }
 }
 
 // bdpt learns light tracing's share of one-scattering paths in its first four passes

@@ -32,6 +32,29 @@ namespace brume::cli {
 
 namespace {
 
+// --stats: what a sample did, per part (the counters the duel's costs are counted from).
+std::string workPerSample(const std::string& integrator, const RenderStats& st) {
+    const double n = double(std::max<uint64_t>(st.samples, 1));
+    auto per = [&](int k) { return double(st.counters[k]) / n; };
+    char buf[512];
+    if (integrator == "pt")
+        std::snprintf(buf, sizeof buf,
+                      "work per sample: walk rays %.3f; light connections at vertices %.3f (%.3f rays), on segments %.3f "
+                      "(%.3f rays), by solid angle %.3f (%.3f rays)\n",
+                      per(kPtWalkRays), per(kPtVertexCalls), per(kPtVertexRays), per(kPtSegmentCalls), per(kPtSegmentRays),
+                      per(kPtSolidAngleCalls), per(kPtSolidAngleRays));
+    else
+        std::snprintf(buf, sizeof buf,
+                      "work per sample: camera walk rays %.3f, light walk rays %.3f; light connections %.3f + %.3f "
+                      "equi-angular rays, camera connections %.3f + %.3f, general connections %.3f + %.3f\n",
+                      per(kCameraWalkRays), per(kLightWalkRays), per(rayCounter(StrategyKind::LightConnection, false)),
+                      per(rayCounter(StrategyKind::LightConnection, true)), per(rayCounter(StrategyKind::CameraConnection, false)),
+                      per(rayCounter(StrategyKind::CameraConnection, true)), per(rayCounter(StrategyKind::SubpathConnection, false)),
+                      per(rayCounter(StrategyKind::SubpathConnection, true)));
+    return buf;
+}
+
+
 struct RenderArgs {
     std::string scene;
     std::string output;
@@ -516,10 +539,11 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         planner->chosen().applyTo(bdptOptions);
         bdptOptions.efficiencyAware = false;
     }
-    // With bdpt, those of light tracing's learned share.
+    // With light tracing's learned share (bdpt; auto in single scattering, when its duel kept
+    // the allocation that carries it), that share.
     const DirectLightTracing* direct =
-        a.integrator == "bdpt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
-    if (direct) bdptOptions.directLightTracing = direct->factor();
+        a.integrator != "pt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
+    if (direct && (!planner || planner->pilotAllocationAt(1 << 30))) bdptOptions.directLightTracing = direct->factor();
     if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
 
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
@@ -528,6 +552,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
+    if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
                     "camera side %.4g, light tracing %.4g)\n",

@@ -1,5 +1,7 @@
 #include "brume/integrators/allocation_duel.h"
 
+#include "brume/integrators/sample_cost.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -28,6 +30,16 @@ void AllocationDuel::addPass(int c, int index, const std::vector<float>& image, 
     passes_[c] = index + 1;
 }
 
+void AllocationDuel::addWork(int c, const PathStats& totals, double samples) {
+    for (int k = 0; k < PathStats::kCounters; ++k) counters_[c][k] += totals.counters[k];
+    samples_[c] += samples;
+}
+
+double AllocationDuel::cost(int c, bool pathTracer) const {
+    if (passes_[c] == 0) return 0.0;
+    return (pathTracer ? pathTracerCost(counters_[c]) : bidirectionalCost(counters_[c], samples_[c])) / passes_[c];
+}
+
 // Pairs of 2^level-pass batches in kPasses passes: kPasses / 2^(level+1); each gives 2·V.
 double AllocationDuel::variance(int c, int level) const {
     const int pairs = kPasses >> (level + 1);
@@ -37,14 +49,17 @@ double AllocationDuel::variance(int c, int level) const {
     return groups[kGroups / 2] * kGroups / (2.0 * pairs);
 }
 
-// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, then per level
-// (u64 n, n f32).
+// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, u64 counters ×
+// 2·kCounters, f64 samples × 2, then per level (u64 n, n f32).
 void AllocationDuel::save(std::string& out) const {
     for (int p : passes_) putBytes(out, int32_t(p));
     for (const auto& row : squares_)
         for (const auto& level : row)
             for (double v : level) putBytes(out, v);
     for (double m : mean_) putBytes(out, m);
+    for (const auto& row : counters_)
+        for (uint64_t v : row) putBytes(out, v);
+    for (double v : samples_) putBytes(out, v);
     for (const std::vector<float>& f : first_) putVector(out, f);
 }
 
@@ -57,6 +72,12 @@ void AllocationDuel::load(StateReader& r, size_t values) {
         for (auto& level : row)
             for (double& v : level) v = r.get<double>();
     for (double& m : mean_) m = r.get<double>();
+    for (auto& row : counters_)
+        for (uint64_t& v : row) v = r.get<uint64_t>();
+    for (double& v : samples_) {
+        v = r.get<double>();
+        if (!(v >= 0)) throw std::runtime_error("allocation state is malformed");
+    }
     for (std::vector<float>& f : first_) {
         f = r.getVector<float>(values);
         if (!f.empty() && f.size() != values) throw std::runtime_error("allocation state is malformed");

@@ -1,5 +1,6 @@
 #include "brume/integrators/allocation_planner.h"
 
+#include "brume/integrators/sample_cost.h"
 #include "brume/integrators/state_bytes.h"
 
 #include <algorithm>
@@ -19,7 +20,8 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 
 }  // namespace
 
-AllocationPlanner::AllocationPlanner(ConnectMode connect) : candidates_(candidateAllocations(connect)) {
+AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare)
+    : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare) {
     static_assert(PathStats::kSums >= 21, "a moment per candidate, and the path tracer's probe");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
@@ -46,16 +48,13 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
-    if (chosen_ < 0 && s.pass <= kLastDecisionPass) {
-        const bool second = dueling() && s.pass >= kDuelStart + AllocationDuel::kPasses;
-        addPassExact(s, leftOut_[second ? 1 : 0]);
-        if (!second) ++leftOutPasses_;
-    }
+    if (chosen_ < 0 && s.pass <= kLastDecisionPass)
+        addPassExact(s, leftOut_[s.pass < kDuelStart ? 0 : 1 + (s.pass - kDuelStart) / AllocationDuel::kPasses]);
     if (s.pass > kDecisionPass) {
         if (dueling() && chosen_ < 0 && s.pass <= kLastDecisionPass && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
             std::vector<float> image;
             passImage(s, image);
-            duelPass(s.pass, image);
+            duelPass(s, image);
         }
         return;
     }
@@ -99,44 +98,46 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     if (++collected_ == kCollectPasses) decide();
 }
 
-// The cost of one pass of allocation a, in units of a camera-walk ray, from the pilot's counts:
-// each part's rays, weighted by what one costs with everything that comes with it (the
-// vertex, its densities and MIS sums, the weight of a connection, the placement of an
-// equi-angular vertex), plus a fixed cost per sample. The weights were fitted to the measured
-// time per pass of all 18 allocations on six bench scenes at 160x120 (1 thread, median of 3;
-// the free-flight light connection, made in every allocation, tied to the camera-walk ray):
-// predicted/measured within 12 % for the median allocation and 36 % for the worst, where
-// plain ray counts were off by 19 % and 76 % (docs/results.md).
+// The cost of one pass of allocation a (sample_cost.h's units and weights), from the pilot's
+// counts: the parts a candidate drops left out, general connections scaled by their
+// probability.
 //
 // The path tracer: the cost of the bidirectional tracer's same strategies ("pt+ea") times
 // kPathTracerCost, measured on bench_fog_room and area_hall (160x120, unlimited depth:
-// pt:mis samples per second over those of `bdpt --allocation pt+ea`).
+// pt:mis samples per second over those of `bdpt --allocation pt+ea`). (The duel counts
+// both contenders' costs from their own passes instead.)
 double AllocationPlanner::cost(const BdptAllocation& a) const {
+    using namespace bdpt_cost;
     constexpr double kPathTracerCost = 0.57;
     if (a.pathTracer) {
         BdptAllocation same = a;
         same.pathTracer = false;
         return kPathTracerCost * cost(same);
     }
-    constexpr double kSample = 10.6, kCameraWalk = 1.0, kLightWalk = 2.71, kLightConnection = 1.0,
-                     kLightConnectionEa = 4.50, kCameraConnection = 3.07, kCameraConnectionEa = 5.71,
-                     kGeneralConnection = 2.54;
     auto rays = [&](int counter) { return double(counters_[counter]); };
     const BdptAllocation& p = candidates_[size_t(pilot_)];
     double c = kSample * double(samples_) + kCameraWalk * rays(kCameraWalkRays) +
                kLightConnection * rays(rayCounter(StrategyKind::LightConnection, false));
     if (a.equiAngularLight) c += kLightConnectionEa * rays(rayCounter(StrategyKind::LightConnection, true));
     if (a.lightSubpaths) {
-        c += kLightWalk * rays(kLightWalkRays);
+        double light = kLightWalk * rays(kLightWalkRays);
         if (a.lightTracing) {
-            c += kCameraConnection * rays(rayCounter(StrategyKind::CameraConnection, false));
-            if (a.equiAngularCamera) c += kCameraConnectionEa * rays(rayCounter(StrategyKind::CameraConnection, true));
+            light += kCameraConnection * rays(rayCounter(StrategyKind::CameraConnection, false));
+            if (a.equiAngularCamera) light += kCameraConnectionEa * rays(rayCounter(StrategyKind::CameraConnection, true));
         }
         if (p.generalConnection > 0)
-            c += kGeneralConnection * a.generalConnection / p.generalConnection *
-                 (rays(rayCounter(StrategyKind::SubpathConnection, false)) + rays(rayCounter(StrategyKind::SubpathConnection, true)));
+            light += kGeneralConnection * a.generalConnection / p.generalConnection *
+                     (rays(rayCounter(StrategyKind::SubpathConnection, false)) + rays(rayCounter(StrategyKind::SubpathConnection, true)));
+        c += light;
     }
     return c / std::max(1, collected_);
+}
+
+// A contender's cost in the duel: one of its passes, counted from its own passes
+// (sample_cost.h), so that what it made there (light tracing's share of light subpaths, the
+// path tracer's solid-angle tables) is in it.
+double AllocationPlanner::duelCost(int c) const {
+    return duel_.cost(c, candidates_[size_t(duelists_[c])].pathTracer);
 }
 
 void AllocationPlanner::decide() {
@@ -174,6 +175,10 @@ void AllocationPlanner::decide() {
         }
         e.variance = std::isfinite(difference) ? std::max(pilotVariance + difference, 1e-2 * pilotVariance)
                                                : std::numeric_limits<double>::infinity();
+        // With light tracing's learned share the pilot's camera walk passes through media at
+        // its last scattering event, leaving them to the equi-angular light connection: an
+        // allocation without it is not rated.
+        if (learnedShare_ && !candidates_[j].equiAngularLight) e.variance = std::numeric_limits<double>::infinity();
         e.cost = cost(candidates_[j]);
         e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);
@@ -187,25 +192,36 @@ void AllocationPlanner::decide() {
 }
 
 // What the image may leave out, once the choice is final: the pilot's passes and the duel's
-// loser's (the path tracer's, if the bidirectional allocation won: then the pilot's passes, rendered
-// by every strategy including the winner's, stay).
+// loser's. When the bidirectional allocation won, the pilot's passes (rendered by every
+// strategy, the winner's among them) stay, unless the winner carries light tracing's
+// learned share, which the pilot's passes (c = 1) do not.
+bool AllocationPlanner::pilotLeftOut() const { return !(dueling() && chosen_ == duelists_[0] && !learnedShare_); }
+
 double AllocationPlanner::leftOutNoise() const {
     if (chosen_ < 0 || !dueling()) return 0.0;
     const int won = chosen_ == duelists_[0] ? 0 : 1;
-    const double mine = duel_.variance(won, 0);
-    // The bidirectional allocation won: the path tracer's passes; else the pilot's and B's.
-    const double theirs = won == 0 ? duel_.variance(1, 0)
-                                   : (kDuelStart * pilotVariance_ + AllocationDuel::kPasses * duel_.variance(0, 0)) /
-                                         (kDuelStart + AllocationDuel::kPasses);
+    const double mine = duel_.variance(won, 0), loser = duel_.variance(1 - won, 0);
+    const double theirs = pilotLeftOut() ? (kDuelStart * pilotVariance_ + AllocationDuel::kPasses * loser) /
+                                               (kDuelStart + AllocationDuel::kPasses)
+                                         : loser;
     return mine > 0 ? theirs / mine : 0.0;
 }
 
+// leftOut_: [0] the pilot's passes, [1] and [2] the duelists'; after the choice [0] holds
+// what the image may leave out.
 void AllocationPlanner::keepLeftOut() {
-    if (dueling() && chosen_ == duelists_[0]) {
-        std::swap(leftOut_[0], leftOut_[1]);
-        leftOutPasses_ = AllocationDuel::kPasses;
-    }
-    leftOut_[1] = std::vector<FixedSum>();
+    std::vector<FixedSum> out;
+    leftOutPasses_ = 0;
+    auto add = [&](std::vector<FixedSum>& sums, int passes) {
+        if (out.empty()) out = std::move(sums);
+        else
+            for (size_t i = 0; i < out.size() && i < sums.size(); ++i) out[i] += sums[i];
+        leftOutPasses_ += passes;
+    };
+    if (pilotLeftOut()) add(leftOut_[0], kDuelStart);
+    if (dueling()) add(leftOut_[chosen_ == duelists_[0] ? 2 : 1], AllocationDuel::kPasses);
+    for (std::vector<FixedSum>& v : leftOut_) v = std::vector<FixedSum>();
+    leftOut_[0] = std::move(out);
 }
 
 // The pilot's estimate cannot see what the sampler gives each candidate (its passes use
@@ -224,6 +240,15 @@ void AllocationPlanner::startDuel() {
         if (best < 0 || estimates_[j].efficiency > estimates_[size_t(best)].efficiency) best = int(j);
     }
     if (bidirectional < 0 || pathTracer < 0) return;
+    // With light tracing's learned share (single scattering) the bidirectional contender is
+    // the pilot's allocation (every strategy) with the share, which the pilot's estimate does
+    // not know: it always meets the path tracer.
+    if (learnedShare_) {
+        duelists_[0] = pilot_;
+        duelists_[1] = pathTracer;
+        chosen_ = -1;
+        return;
+    }
     const double b = estimates_[size_t(bidirectional)].efficiency, p = estimates_[size_t(pathTracer)].efficiency;
     if (b > 0 && p > 0 && std::max(b, p) <= kDuelRange * std::min(b, p)) {
         duelists_[0] = bidirectional;
@@ -232,23 +257,29 @@ void AllocationPlanner::startDuel() {
     }
 }
 
-void AllocationPlanner::duelPass(int pass, const std::vector<float>& image) {
-    const int k = pass - kDuelStart, c = k / AllocationDuel::kPasses, i = k % AllocationDuel::kPasses;
+void AllocationPlanner::duelPass(const PassSummary& s, const std::vector<float>& image) {
+    const int k = s.pass - kDuelStart, c = k / AllocationDuel::kPasses, i = k % AllocationDuel::kPasses;
     if (duel_.passes(c) != i || (c == 1 && duel_.passes(0) != AllocationDuel::kPasses)) return;  // (in order only)
+    duel_.addWork(c, s.totals, double(s.width) * double(s.height));
     duel_.addPass(c, i, image, weights_);
     if (c == 1 && i == AllocationDuel::kPasses - 1) decideDuel();
 }
 
-void AllocationPlanner::decideDuel() {
+// 1 / (relative variance of the mean of 4 passes × the cost of 4 passes).
+double AllocationPlanner::duelEfficiency(int c) const {
     const int top = AllocationDuel::kLevels - 1, batch = 1 << top;
+    const double v = duel_.variance(c, top), cost = duelCost(c);
+    return v > 0 && cost > 0 ? 1.0 / (v * batch * cost) : 0.0;
+}
+
+void AllocationPlanner::decideDuel() {
     double efficiency[2];
     for (int c = 0; c < 2; ++c) {
-        const double cost = estimates_[size_t(duelists_[c])].cost, v = duel_.variance(c, top);
-        efficiency[c] = v > 0 ? 1.0 / (v * batch * cost) : 0.0;
+        efficiency[c] = duelEfficiency(c);
         if (std::getenv("BRUME_DEBUG_PLANNER"))
             std::fprintf(stderr, "duel: %s: V(1) %g V(2) %g V(4) %g, mean %g, cost %g, efficiency %g; pilot's V %g efficiency %g\n",
                          candidates_[size_t(duelists_[c])].name().c_str(), duel_.variance(c, 0), duel_.variance(c, 1),
-                         duel_.variance(c, 2), duel_.mean(c), cost, efficiency[c], estimates_[size_t(duelists_[c])].variance,
+                         duel_.variance(c, 2), duel_.mean(c), duelCost(c), efficiency[c], estimates_[size_t(duelists_[c])].variance,
                          estimates_[size_t(duelists_[c])].efficiency);
     }
     // The path tracer must see the light the pilot's choice sees (10 %, as its probe): black
@@ -261,11 +292,22 @@ void AllocationPlanner::decideDuel() {
     // path tracer 2× ahead there, where it was 4.5× behind at 4 s). So the duel overturns the
     // pilot's choice only where it is decisive, by kOverturn.
     constexpr double kOverturn = 2;
+    // With light tracing's learned share the pilot's estimate does not rate the bidirectional
+    // contender, and both contenders make every strategy (no tail is left to one of them
+    // alone): the duel decides by itself.
     const int pilots = pilotChoice_ == duelists_[1] ? 1 : 0;
     const double margin = efficiency[pilots] > 0 ? efficiency[1 - pilots] / efficiency[pilots] : HUGE_VAL;
-    chosen_ = duelists_[margin > kOverturn ? 1 - pilots : pilots];
+    chosen_ = duelists_[margin > (learnedShare_ ? 1.0 : kOverturn) ? 1 - pilots : pilots];
     if (!sawAll) chosen_ = duelists_[0];
     keepLeftOut();
+}
+
+std::string AllocationPlanner::duelistName(int c) const {
+    const std::string name = candidates_[size_t(duelists_[c])].name();
+    if (!learnedShare_ || duelists_[c] != pilot_) return name;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " with light tracing's learned share (subpaths %.3g per sample)", lightShare_);
+    return name + buf;
 }
 
 std::string AllocationPlanner::summaryLine() const {
@@ -276,20 +318,18 @@ std::string AllocationPlanner::summaryLine() const {
     const Estimate& e = estimates_[size_t(chosen_)];
     const Estimate& p = estimates_[size_t(pilot_)];
     char buf[512];
+    const int chosenDuelist = dueling() ? (chosen_ == duelists_[0] ? 0 : 1) : -1;
     std::snprintf(buf, sizeof buf, "allocation: %s (estimated efficiency %.2fx the pilot's: variance %.2fx, cost %.2fx)",
-                  candidates_[size_t(chosen_)].name().c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0,
+                  chosenDuelist >= 0 ? duelistName(chosenDuelist).c_str() : candidates_[size_t(chosen_)].name().c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0,
                   p.variance > 0 ? e.variance / p.variance : 0.0, p.cost > 0 ? e.cost / p.cost : 0.0);
     std::string out = buf;
     if (dueling()) {
         // Efficiency of each, from the duel: 1 / (V(4 passes) · cost).
         const int won = chosen_ == duelists_[0] ? 0 : 1;
-        auto eff = [&](int c) {
-            const double v = duel_.variance(c, AllocationDuel::kLevels - 1);
-            return v > 0 ? 1.0 / (v * estimates_[size_t(duelists_[c])].cost) : 0.0;
-        };
-        std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency (2x overturns the pilot's choice)%s",
-                      candidates_[size_t(duelists_[1 - won])].name().c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
-                      won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
+        auto eff = [&](int c) { return duelEfficiency(c); };
+        std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency (%s)%s",
+                      duelistName(1 - won).c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
+                      learnedShare_ ? "the better wins" : "2x overturns the pilot's choice", won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
         out += buf;
     }
     return out;
@@ -333,7 +373,7 @@ std::string AllocationPlanner::report() const {
         out += buf;
         for (int c = 0; c < 2; ++c) {
             const double v = pilotVariance_ > 0 ? pilotVariance_ : 1.0;
-            std::snprintf(buf, sizeof buf, "  %-52s %9.3g %9.3g %9.3g %10.4g%s\n", candidates_[size_t(duelists_[c])].name().c_str(),
+            std::snprintf(buf, sizeof buf, "  %-52s %9.3g %9.3g %9.3g %10.4g%s\n", duelistName(c).c_str(),
                           duel_.variance(c, 0) / v, duel_.variance(c, 1) / v, duel_.variance(c, 2) / v, duel_.mean(c),
                           duelists_[c] == chosen_ ? "   chosen" : "");
             out += buf;
@@ -342,13 +382,13 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP2", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
+// State: "BAP3", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
-// passes left out and (u64 n, n × i128) for each of the two left-out sums.
+// passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP2";
+    std::string out = "BAP3";
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
     putBytes(out, int32_t(duelists_[0]));
@@ -370,7 +410,7 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP2") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP3") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const int pilotChoice = r.get<int32_t>(), chosen = r.get<int32_t>();
     const int duelist0 = r.get<int32_t>(), duelist1 = r.get<int32_t>();
@@ -391,7 +431,7 @@ void AllocationPlanner::loadState(const std::string& state) {
     weights_ = r.getVector<float>(values);
     duel_.load(r, values);
     const int leftOutPasses = r.get<int32_t>();
-    std::vector<FixedSum> leftOut[2];
+    std::vector<FixedSum> leftOut[3];
     for (std::vector<FixedSum>& v : leftOut) {
         v = r.getVector<FixedSum>(values);
         if (!v.empty() && v.size() != values) throw std::runtime_error("allocation state is malformed");
@@ -411,8 +451,7 @@ void AllocationPlanner::loadState(const std::string& state) {
         if (chosen_ != chosen) throw std::runtime_error("allocation state is malformed");
     }
     leftOutPasses_ = leftOutPasses;
-    leftOut_[0] = std::move(leftOut[0]);
-    leftOut_[1] = std::move(leftOut[1]);
+    for (int k = 0; k < 3; ++k) leftOut_[k] = std::move(leftOut[k]);
 }
 
 }  // namespace brume

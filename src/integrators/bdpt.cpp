@@ -32,20 +32,21 @@ struct Subpaths {
 
 BdptIntegrator::BdptIntegrator(BdptOptions options)
     : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect}) {
+    // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
+    // (direct_light_tracing.h); so does auto in single scattering, where its duel sets the
+    // pilot's allocation with the share against the path tracer (allocation_planner.h). In
+    // full transport auto does not: learned in its pilot and applied to the chosen allocation,
+    // the factor made the duel keep bidirectional allocations whose tails its eight passes did
+    // not show (docs/results.md).
+    const bool learnable = options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer;
     if (options_.efficiencyAware) {
         // (Its statistics need the equi-angular variants to add to the free-flight ones.)
         if (variantOnly(options_.connect))
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
-        planner_ = std::make_unique<AllocationPlanner>(options_.connect);
+        planner_ = std::make_unique<AllocationPlanner>(options_.connect, learnable && options_.maxDepth == 1);
         planner_->allocationFor(0).applyTo(options_);
     }
-    // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
-    // (direct_light_tracing.h). auto does not: learned in its pilot and applied to the chosen
-    // allocation, the factor made the duel keep bidirectional allocations whose tails its
-    // eight passes did not show (val_fog_room single scattering, 4 s: 5.2x the error of auto
-    // with plain weights; val_forward 3.8x, val_doorway 1.9x; docs/results.md).
-    if (!planner_ && options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer &&
-        options_.lightSubpaths && options_.lightTracing)
+    if (planner_ ? planner_->learnedShare() : learnable && options_.lightSubpaths && options_.lightTracing)
         direct_ = std::make_unique<DirectLightTracing>();
 }
 
@@ -53,7 +54,9 @@ BdptIntegrator::~BdptIntegrator() = default;
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     learningDirect_ = direct_ && direct_->learning(pass);
+    usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
     if (!planner_) return;
+    if (direct_) planner_->setLightShare(direct_->subpathShare());
     // The path tracer samples distances by an emitter's solid angle, which the bidirectional
     // tracer does not: only its own samples show what that is worth.
     const bool ownStrategies = options_.connect == ConnectMode::Mis && scene.hasMedia() && scene.hasTriangleLights() &&
@@ -64,7 +67,7 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
 }
 
 double BdptIntegrator::lightSubpathsMade() const {
-    return direct_ && !learningDirect_ && options_.maxDepth == 1 ? direct_->subpathShare() : 1.0;
+    return usesShare_ && !learningDirect_ && options_.maxDepth == 1 ? direct_->subpathShare() : 1.0;
 }
 
 // The learning passes of light tracing's factor sample independently, like the planner's
@@ -77,7 +80,7 @@ SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
 }
 
 uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
-    if (planner_) return AllocationPlanner::sequenceIndex(pass, kind);
+    if (planner_) return planner_->sequenceIndex(pass, kind);
     if (direct_)
         return uint64_t(kind == SamplerKind::Sobol && pass >= DirectLightTracing::kPasses ? pass - DirectLightTracing::kPasses : pass);
     return uint64_t(pass);
@@ -92,27 +95,46 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
-// State: the planner's (auto), or "BDL1" and light tracing's share (bdpt), or none.
+// State: the planner's (auto), then "BDL1" and light tracing's share if it learns one (bdpt,
+// and auto in single scattering); with both, the planner's is preceded by its length (u64).
 std::string BdptIntegrator::saveState() const {
-    if (planner_) return planner_->saveState();
     std::string out;
+    if (planner_) {
+        const std::string planner = planner_->saveState();
+        if (!direct_) return planner;
+        putBytes(out, uint64_t(planner.size()));
+        out += planner;
+    }
     if (direct_) {
-        out = "BDL1";
+        out += "BDL1";
         direct_->save(out);
     }
     return out;
 }
 
 void BdptIntegrator::loadState(const std::string& state) {
-    if (planner_) return planner_->loadState(state);
+    if (planner_ && !direct_) return planner_->loadState(state);
     if (!direct_) {
         if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
         return;
     }
-    if (state.compare(0, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
-    StateReader reader{state, 4};
+    StateReader reader{state, 0};
+    std::string planner;
+    if (planner_) {
+        const uint64_t n = reader.get<uint64_t>();
+        if (n > state.size() - reader.at) throw std::runtime_error("allocation state is malformed");
+        planner = state.substr(reader.at, size_t(n));
+        reader.at += size_t(n);
+    }
+    if (state.compare(reader.at, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
+    reader.at += 4;
     direct_->load(reader);
     if (reader.at != state.size()) throw std::runtime_error("light tracing state has trailing bytes");
+    if (planner_) {
+        // (The duel's decision reads the share: known before the planner's state is.)
+        planner_->setLightShare(direct_->subpathShare());
+        planner_->loadState(planner);
+    }
 }
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
@@ -132,9 +154,12 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // connection (s = 1), whose equi-angular variant covers the medium wherever the light has
     // a position: there the walk passes through too and reaches the surface behind with
     // weight T, and the in-scattering comes from the connections alone. (Not past invisible
-    // boundaries, where a medium vertex has no equi-angular variant.)
+    // boundaries, where a medium vertex has no equi-angular variant; nor in auto's pilot,
+    // whose statistics rate allocations without that variant, except where it learns light
+    // tracing's share, allocation_planner.h.)
     const int passFirstAt = limited && maxScatter >= 1 && options_.connect != ConnectMode::Density &&
-                                    options_.equiAngularLight && !options_.efficiencyAware && !scene.hasInvisibleBoundaries() &&
+                                    options_.equiAngularLight && (!options_.efficiencyAware || planner_->learnedShare()) &&
+                                    !scene.hasInvisibleBoundaries() &&
                                     !scene.hasDirectionalLights()
                                 ? maxScatter
                                 : 1 << 30;
@@ -168,7 +193,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? lightMade : 0.0;
     mis.equiAngularLight = options_.equiAngularLight;
     mis.equiAngularCamera = options_.equiAngularCamera;
-    if (direct_) mis.directLightTracing = direct_->factor();
+    if (usesShare_) mis.directLightTracing = direct_->factor();
     else if (options_.directLightTracing >= 0) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {
         misPrefixes(scene, camera, nCamera, true, mis);
@@ -237,8 +262,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 }
 
 void BdptIntegrator::endPass(const Scene&, const PassSummary& summary) {
-    if (planner_) planner_->endPass(summary);
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
+    if (planner_) {
+        if (direct_) planner_->setLightShare(direct_->subpathShare());
+        planner_->endPass(summary);
+    }
     if (!summary.complete) return;
     for (int k = 0; k < 4; ++k) {
         lastPass_.freeFlight[k] = summary.totals.counters[strategyCounter(StrategyKind(k), false)];

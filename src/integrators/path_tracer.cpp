@@ -274,6 +274,21 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
 }
 
+// Counts the rays a part of a sample traces, and its calls (PathTracerCounter).
+struct PartMeter {
+    PathStats& stats;
+    int rays;
+    uint64_t start;
+    PartMeter(PathStats& s, int raysCounter, int callsCounter) : stats(s), rays(raysCounter), start(s.rays) {
+        ++s.counters[callsCounter];
+    }
+    ~PartMeter() { stats.counters[rays] += stats.rays - start; }
+};
+
+uint64_t connectionRays(const PathStats& s) {
+    return s.counters[kPtVertexRays] + s.counters[kPtSegmentRays] + s.counters[kPtSolidAngleRays];
+}
+
 }  // namespace
 
 Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
@@ -282,6 +297,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const ConnectMode mode = options_.connect;
     const int maxDepth = options_.maxDepth < 0 ? 1 << 30 : options_.maxDepth;
     const Ray cameraRay = scene.camera().generateRay(fx, fy, width, height);
+    const uint64_t rays0 = stats.rays, connections0 = connectionRays(stats);
     WalkSegment ray = leaving(cameraRay.o, Vec3(0.0f), cameraRay.d);
     MediumStack media = scene.cameraMedia();
     Spectrum L(0.0f), beta(1.0f);
@@ -314,11 +330,15 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             // In a coloured medium the channel that drives the distance is drawn in proportion
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
-            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth)
+            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
+                const PartMeter meter(stats, kPtSegmentRays, kPtSegmentCalls);
                 L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables, stats);
-            if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights())
+            }
+            if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
+                const PartMeter meter(stats, kPtSolidAngleRays, kPtSolidAngleCalls);
                 L += beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler, dim::solidAngleSegment(depth),
                                              repeat, tables, stats);
+            }
 
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
             // over the channels.
@@ -342,7 +362,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.p = prevOrigin.seg.o + prevOrigin.seg.d * prevOrigin.t;
             v.wo = -ray.d;
             v.origin = &prevOrigin;
-            if (nee) L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+            if (nee) {
+                const PartMeter meter(stats, kPtVertexRays, kPtVertexCalls);
+                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+            }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
             prevPdf = hgPhase(dot(ray.d, wi), m->g);
@@ -384,8 +407,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.wo = -ray.d;
             v.bsdf = &bsdf;
             v.ng = hit.ng;
-            if (nee && !bsdf.isSpecular())
+            if (nee && !bsdf.isSpecular()) {
+                const PartMeter meter(stats, kPtVertexRays, kPtVertexCalls);
                 L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+            }
 
             BsdfSample bs;
             if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) break;
@@ -406,6 +431,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             beta /= survive;
         }
     }
+    ++stats.counters[kPtSamples];
+    stats.counters[kPtWalkRays] += (stats.rays - rays0) - (connectionRays(stats) - connections0);
     return L;
 }
 

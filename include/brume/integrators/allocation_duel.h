@@ -23,11 +23,15 @@
 // and the other 2.1× worse in the next). So the pixels are dealt into kGroups interleaved
 // groups and the estimate is the median of the groups' sums times kGroups (median of means):
 // a firefly moves one group.
+//
+// Cost: each contender's passes count their own work (PathStats::counters), from which
+// sample_cost.h gives the cost of one of its passes.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "brume/integrators/integrator.h"
 #include "brume/integrators/state_bytes.h"
 
 namespace brume {
@@ -46,6 +50,11 @@ public:
     // over pixels and channels (see above: an overestimate by a factor of 1 to 1.75; the
     // median of the pixel groups' sums, times kGroups).
     double variance(int c, int level) const;
+    // The counters of contender c's passes so far, and their samples.
+    void addWork(int c, const PathStats& totals, double samples);
+    // The cost of one pass of contender c, counted (sample_cost.h; the path tracer's or the
+    // bidirectional tracer's weights); 0 before its first pass.
+    double cost(int c, bool pathTracer) const;
     // Σ w·L over its passes, per pass: its weighted mean brightness.
     double mean(int c) const { return passes_[c] > 0 ? mean_[c] / passes_[c] : 0.0; }
 
@@ -56,6 +65,8 @@ private:
     std::vector<float> first_[kLevels];  // the first batch of the current pair, per level (sums)
     double squares_[2][kLevels][kGroups] = {};  // Σ w·(a − b)² over the pairs so far, per pixel group
     double mean_[2] = {};
+    uint64_t counters_[2][PathStats::kCounters] = {};
+    double samples_[2] = {};
     int passes_[2] = {0, 0};
 };
 

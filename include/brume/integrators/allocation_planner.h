@@ -15,16 +15,27 @@
 //                 part of a sample counts its rays;
 //   passes 4–19   the duel (allocation_duel.h), where the pilot rated the best
 //                 bidirectional allocation and the path tracer within 16× of each other:
-//                 the two render 8 passes each, in turn, with the sampler asked for (Sobol
-//                 indices 0–7 and 8–15: aligned blocks), and the better at equal cost
-//                 (relative variance of 4 passes × cost) renders the rest if it is the
-//                 pilot's choice or better than that by 2× (the pilot sees heavy tails, the
-//                 duel's median over pixel groups does not) — and the path tracer only if
-//                 its mean is within 10 % of the other's (black where only light subpaths
-//                 reach would look noiseless). The pilot's estimate cannot see what
-//                 Owen-scrambled Sobol gives each (34× the path tracer, 3.9× the
-//                 bidirectional tracer, at 64 spp on one lamp in fog); the duel measures it;
-//   then          the chosen allocation, for good, with the sampler asked for.
+//                 the two render 8 passes each, in turn, with the sampler asked for (each
+//                 from Sobol index 0: an aligned block), and the better at equal cost
+//                 (relative variance of 4 passes × the cost its own passes counted,
+//                 sample_cost.h) renders the rest if it is the pilot's choice or better than
+//                 that by 2× (the pilot sees heavy tails, the duel's median over pixel groups
+//                 does not) — and the path tracer only if its mean is within 10 % of the
+//                 other's (black where only light subpaths reach would look noiseless). The
+//                 pilot's estimate cannot see what Owen-scrambled Sobol gives each (34× the
+//                 path tracer, 3.9× the bidirectional tracer, at 64 spp on one lamp in fog);
+//                 the duel measures it;
+//   then          the chosen allocation, for good, with the sampler asked for, continuing
+//                 its own sequence (sequenceIndex).
+// In single scattering (learnedShare) the bidirectional tracer also learns light tracing's
+// share of one-event paths in passes 0–3 (direct_light_tracing.h: the same passes, the same
+// independent numbers and plain weights), and its camera walk passes through media at its
+// one scattering event, as the fixed tracer's does. The pilot's estimate knows neither, so
+// the duel always takes place, between the pilot's allocation (every strategy) with the
+// learned share and the path tracer, and decides alone: both make every strategy, so no
+// tail is left to one of them, and the margin that guards against the duel's blindness to
+// tails is not needed. Where the bidirectional tracer wins, its image leaves out the
+// pilot's passes too (plain weights: noisier).
 // Estimated relative variance of one pass: V_j = V_pilot + M_j − M_pilot, summed over pixels
 // and channels with the weights (M alone misses the squared mean and the covariance between
 // path lengths; both are taken as the pilot's). The path tracer is another estimator, not a
@@ -38,11 +49,13 @@
 // unless the path tracer has a strategy of its own (distances by the solid angle of an
 // emissive triangle, integrators/solid_angle_segment.h), when it is probed as in coloured
 // media; there too the probe is set aside for pt+ea's moment when its mean falls more than
-// 10 % short of the pilot's, and pt+ea's bias (an infinite moment) rules it out. Cost: the rays each part of the pilot's samples
-// traced, each part weighted by the measured cost of one of its rays (cost()), the parts a
-// candidate drops left out and general connections scaled by their probability; a
-// deterministic stand-in for time, which would make the image depend on the machine's load. Every number comes from completed passes summed in tile order, so the
-// choice is the same for any thread count, and it is kept in checkpoints (saveState).
+// 10 % short of the pilot's, and pt+ea's bias (an infinite moment) rules it out.
+// Cost: the rays each part of the pilot's samples traced, each part weighted by the
+// measured cost of one of its rays (sample_cost.h), the parts a candidate drops left out and
+// general connections scaled by their probability; a deterministic stand-in for time, which
+// would make the image depend on the machine's load. Every number comes from completed
+// passes summed in tile order, so the choice is the same for any thread count, and it is
+// kept in checkpoints (saveState).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -66,7 +79,13 @@ public:
     // The PathStats sums that take Σ w·L² and Σ w·L of the path tracer's probe samples (below).
     static constexpr int kPathTracerProbe = PathStats::kSums - 1, kPathTracerProbeMean = PathStats::kSums - 2;
 
-    explicit AllocationPlanner(ConnectMode connect);
+    // learnedShare: in single scattering, where the bidirectional tracer learns light
+    // tracing's share (direct_light_tracing.h), the duel's bidirectional contender is the
+    // pilot's allocation with that share, and the duel alone decides (decideDuel).
+    explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false);
+    bool learnedShare() const { return learnedShare_; }
+    // How often that contender traces a light subpath (for the report); told before each pass.
+    void setLightShare(double q) { lightShare_ = q; }
     // Whether the path tracer is an estimator of its own rather than "pt+ea" re-weighted, so
     // that its probe samples (below) measure it: in coloured media, and where it has a
     // strategy the bidirectional tracer lacks (distances by an emitter's solid angle). Told
@@ -83,11 +102,18 @@ public:
         return pass <= kDecisionPass ? SamplerKind::Independent : requested;
     }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
-    // The index of pass `pass` in the sequence of a sampler of kind `kind`: with Sobol the
-    // pilot's passes (independent numbers) take none, so that the duel's contenders start on
-    // aligned blocks (0–7, 8–15); independent numbers are indexed by the pass itself.
-    static uint64_t sequenceIndex(int pass, SamplerKind kind) {
-        return uint64_t(kind == SamplerKind::Sobol && pass > kDecisionPass ? pass - kDuelStart : pass);
+    // The index of pass `pass` in the sequence of a sampler of kind `kind`. With Sobol the
+    // pilot's passes (independent numbers) take none; each of the duel's contenders starts at
+    // 0 (an aligned block of 8), and the allocation chosen continues its own sequence: the
+    // passes the image keeps are then indices 0, 1, 2, … of one sequence, whose power-of-two
+    // prefixes are whole nets (on a panel light in fog, 128 passes from 0 had a third of the
+    // error of 143 passes from 8). Independent numbers are indexed by the pass itself (two
+    // passes with one index would repeat their numbers). Known when the pass starts.
+    uint64_t sequenceIndex(int pass, SamplerKind kind) const {
+        if (kind != SamplerKind::Sobol || pass <= kDecisionPass) return uint64_t(pass);
+        if (!dueling()) return uint64_t(pass - kDuelStart);
+        if (pass <= kLastDecisionPass) return uint64_t((pass - kDuelStart) % AllocationDuel::kPasses);
+        return uint64_t(pass - kDuelStart - AllocationDuel::kPasses);
     }
     // Once decided: the passes the image may leave out (the pilot's and the duel's loser's;
     // with the path tracer's duel passes when the bidirectional one won, the pilot's stay) and
@@ -97,6 +123,9 @@ public:
     // there was none: unknown).
     double leftOutNoise() const;
     const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
+    // Whether the pass that renders now is the pilot's allocation (with the learned share,
+    // once decided: the bidirectional contender).
+    bool pilotAllocationAt(int pass) const { return allocationFor(pass) == candidates_[size_t(pilot_)]; }
     PixelWeights weights() const { return PixelWeights{width_, height_, weights_.data()}; }
     const std::vector<BdptAllocation>& candidates() const { return candidates_; }
 
@@ -106,6 +135,10 @@ public:
     const BdptAllocation& chosen() const { return candidates_[size_t(chosen_ < 0 ? pilot_ : chosen_)]; }
     // Whether the best bidirectional allocation met the path tracer in a duel (decided or not).
     bool dueling() const { return duelists_[0] >= 0; }
+    // The duel's contenders (0: bidirectional, 1: the path tracer; candidate indices), and
+    // once both rendered, each one's efficiency as the duel measured it.
+    int duelist(int c) const { return duelists_[c]; }
+    double duelEfficiency(int c) const;
     // One line: the choice and its estimated efficiency relative to the pilot's; and a table
     // of every candidate's estimated relative variance, cost and efficiency.
     std::string summaryLine() const;
@@ -124,21 +157,26 @@ private:
     void passImage(const PassSummary& summary, std::vector<float>& image) const;
     void decide();
     void startDuel();
-    void duelPass(int pass, const std::vector<float>& image);
+    void duelPass(const PassSummary& summary, const std::vector<float>& image);
     void decideDuel();
     void keepLeftOut();
     double cost(const BdptAllocation& a) const;
+    double duelCost(int c) const;
+    std::string duelistName(int c) const;
+    bool pilotLeftOut() const;
 
     std::vector<BdptAllocation> candidates_;
     int pilot_ = 0;
     bool probe_ = false;
+    bool learnedShare_ = false;
+    double lightShare_ = 1.0;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)
     int duelists_[2] = {-1, -1};    // the best bidirectional allocation and the path tracer
     AllocationDuel duel_;
-    // Exact sums of passes (3 per pixel): [0] the pilot's and the first duelist's, [1] the
-    // second duelist's; after the choice [0] alone, what the image may leave out.
-    std::vector<FixedSum> leftOut_[2];
+    // Exact sums of passes (3 per pixel): [0] the pilot's, [1] and [2] the duelists'; after
+    // the choice [0] alone, what the image may leave out (keepLeftOut).
+    std::vector<FixedSum> leftOut_[3];
     double pilotVariance_ = 0;  // V_pilot: the pilot's weighted relative variance of one pass
     int leftOutPasses_ = 0;
     int width_ = 0, height_ = 0;

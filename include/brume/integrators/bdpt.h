@@ -112,7 +112,7 @@ public:
     const StrategyCounts& totalCounts() const { return total_; }
     // With BdptOptions::efficiencyAware, what it chose and why; else null.
     const AllocationPlanner* planner() const { return planner_.get(); }
-    // Without it, light tracing's learned share of one-event paths (direct_light_tracing.h).
+    // Light tracing's learned share of one-event paths (direct_light_tracing.h).
     const DirectLightTracing* directLightTracing() const { return direct_.get(); }
     // The probability that a sample of the pass in force traces a light subpath: with
     // --max-depth 1, where light subpaths serve light tracing alone, its learned subpath share
@@ -128,6 +128,7 @@ private:
     bool collecting_ = false;  // this pass records statistics (planner_)
     std::unique_ptr<DirectLightTracing> direct_;
     bool learningDirect_ = false;  // this pass gathers direct_'s images
+    bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
 };
 
 }  // namespace brume

@@ -17,7 +17,7 @@ class Scene;
 // tile and sums them in tile order once the pass is complete: rays for the summary line, and
 // counters for the integrator's own statistics (its endPass), the same for any thread count.
 struct PathStats {
-    static constexpr int kCounters = 16, kSums = 24;
+    static constexpr int kCounters = 24, kSums = 24;
     uint64_t rays = 0;                     // closest-hit and shadow rays traced
     uint64_t counters[kCounters] = {};     // integrator-defined
     double sums[kSums] = {};               // integrator-defined (summed in tile order too)

@@ -1,0 +1,78 @@
+// What samples count of their work (path_tracer.h's counters, the bidirectional tracer's ray
+// counters) and what sample_cost.h makes of it: the duel's costs (allocation_planner.h).
+#include <catch2/catch.hpp>
+
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/integrators/sample_cost.h"
+#include "brume/render/renderer.h"
+#include "support/pixel_estimates.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+RenderStats renderWith(const Scene& scene, Integrator& integrator) {
+    Film film(16, 12);
+    RenderOptions o;
+    o.width = 16;
+    o.height = 12;
+    o.spp = 4;
+    o.threads = 2;
+    return render(scene, integrator, o, film);
+}
+
+}  // namespace
+
+TEST_CASE("the path tracer counts every ray in one part of its sample, and its samples", "[cost]") {
+    auto scene = loadTestScene("quad_light_fog.gltf");  // a triangle light in fog
+    REQUIRE(scene->hasTriangleLights());
+    for (ConnectMode mode : {ConnectMode::Density, ConnectMode::EquiAngular, ConnectMode::Mis})
+        for (int depth : {1, -1}) {
+            PathTracer pt(PathTracerOptions{depth, true, mode});
+            const RenderStats s = renderWith(*scene, pt);
+            INFO("connect mode " << int(mode) << ", max depth " << depth);
+            CHECK(s.counters[kPtSamples] == s.samples);
+            CHECK(s.counters[kPtWalkRays] + s.counters[kPtVertexRays] + s.counters[kPtSegmentRays] +
+                      s.counters[kPtSolidAngleRays] ==
+                  s.rays);
+            CHECK(s.counters[kPtWalkRays] >= s.samples);  // the camera ray at least
+            CHECK((s.counters[kPtSegmentCalls] > 0) == (mode != ConnectMode::Density));
+            CHECK((s.counters[kPtSolidAngleCalls] > 0) == (mode == ConnectMode::Mis));
+            CHECK(s.counters[kPtVertexCalls] > 0);
+        }
+}
+
+TEST_CASE("the bidirectional tracer counts every ray in one part of its sample", "[cost]") {
+    auto scene = loadTestScene("quad_light_fog.gltf");
+    for (int depth : {1, -1}) {
+        BdptOptions o{depth, MisHeuristic::Power};
+        o.directLightTracing = 1.0;
+        BdptIntegrator bdpt(o);
+        const RenderStats s = renderWith(*scene, bdpt);
+        uint64_t parts = s.counters[kCameraWalkRays] + s.counters[kLightWalkRays];
+        // (Emitter hits trace no ray of their own: their slots are the walks'.)
+        for (StrategyKind k : {StrategyKind::LightConnection, StrategyKind::CameraConnection, StrategyKind::SubpathConnection})
+            for (bool ea : {false, true}) parts += s.counters[rayCounter(k, ea)];
+        INFO("max depth " << depth);
+        CHECK(parts == s.rays);
+        CHECK(bidirectionalCost(s.counters, double(s.samples)) > bdpt_cost::kSample * double(s.samples));
+    }
+}
+
+// The cost follows the parts made: distances by an emitter's solid angle cost the path tracer
+// its tables (on a panel in fog, pt:mis took 3x the time of pt:density per sample in single
+// scattering), and equal counts cost the same.
+TEST_CASE("a path tracer's cost grows with the parts it makes", "[cost]") {
+    auto scene = loadTestScene("quad_light_fog.gltf");
+    PathTracer density(PathTracerOptions{1, true, ConnectMode::Density});
+    PathTracer mis(PathTracerOptions{1, true, ConnectMode::Mis});
+    const RenderStats d = renderWith(*scene, density), m = renderWith(*scene, mis);
+    const double perD = pathTracerCost(d.counters) / double(d.samples), perM = pathTracerCost(m.counters) / double(m.samples);
+    CHECK(perM > 1.5 * perD);
+    CHECK(perD >= pt_cost::kSample + pt_cost::kWalk);
+    uint64_t none[PathStats::kCounters] = {};
+    CHECK(pathTracerCost(none) == 0.0);
+    CHECK(bidirectionalCost(none, 0.0) == 0.0);
+}

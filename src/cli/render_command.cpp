@@ -116,7 +116,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.allocation = v; });
     app.add_flag_callback("--stats", [&] { a.stats = true; },
                           "auto: after the summary line, every candidate allocation's estimated relative variance, "
-                          "cost and efficiency; bdpt: light tracing's learned share of one-scattering paths");
+                          "cost and efficiency, and the duel's measurements; bdpt (and auto in single scattering): light "
+                          "tracing's learned share of one-scattering paths; every integrator: the work per sample by part");
     addOption(app, "--mis", "HEURISTIC", "bdpt: power (the default) or balance", [&](const std::string& v) {
         if (v == "power") a.heuristic = MisHeuristic::Power;
         else if (v == "balance") a.heuristic = MisHeuristic::Balance;

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "brume/integrators/path_tracer.h"
+#include "brume/scene/gltf_loader.h"
 #include "brume/sampling/hg.h"
 #include "support/pixel_estimates.h"
 #include "support/single_scatter_reference.h"
@@ -148,6 +149,29 @@ TEST_CASE("a point light exactly on a camera ray: no NaN or Inf in any mode", "[
             ++k;
         }
         CHECK(worst < zBound(compared));
+    }
+}
+
+// With --max-depth and only point and spot lights, the walk passes through the medium on the
+// ray towards its last event (weight T: the equi-angular connection covers that ray) and
+// stops past it (PathTracer::sample). The density mode does neither: a fog room with walls
+// (surfaces reached through fog, lit and seen) must come out the same.
+TEST_CASE("pt: passing through media at the last event agrees with free flight", "[pt][oracle]") {
+    Scene scene(loadGltf(std::string(BRUME_SCENES) + "/bench_fog_room.gltf"));
+    REQUIRE_FALSE(scene.hasHittableLights());
+    for (int depth : {1, 2}) {
+        PathTracer passing(PathTracerOptions{depth, true, ConnectMode::Mis});
+        PathTracer density(PathTracerOptions{depth, true, ConnectMode::Density});
+        auto a = estimatePixels(scene, passing, 4, 3, 4096, 41);
+        auto b = estimatePixels(scene, density, 4, 3, 16384, 42);
+        double worst = 0;
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const double se = std::sqrt(a[i].stderror(c) * a[i].stderror(c) + b[i].stderror(c) * b[i].stderror(c));
+                if (se > 0) worst = std::max(worst, std::abs(a[i].mean(c) - b[i].mean(c)) / se);
+            }
+        INFO("max depth " << depth << ": worst z = " << worst);
+        CHECK(worst < zBound(3 * int(a.size())));
     }
 }
 

@@ -202,9 +202,11 @@ Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumT
 
 // Strategy C: a light and its anchor first, then t equi-angularly on the segment, then the
 // connection. Returns the estimate to be multiplied by the throughput at the segment start.
+// passing: the walk passes through this segment (PathTracer::sample), so free flight makes no
+// vertex on it and C stands alone, as in the equiangular and product modes.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                           SolidAngleTables& tables, PathStats& stats) {
+                           SolidAngleTables& tables, bool passing, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -237,7 +239,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     path.c = double(pick) * ls.pdf * pea;
     if (light.kind == LightKind::Triangle) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
-    if (mode != ConnectMode::Mis) p.a = 0;  // equiangular, product: C replaces A
+    if (mode != ConnectMode::Mis || passing) p.a = 0;  // equiangular, product, passing: C replaces A
     float w = powerWeight(p.c, p);
     if (w == 0) return Spectrum(0.0f);
     return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
@@ -310,7 +312,20 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     SolidAngleTables tables;       // of the piece being walked; prevTables: of prevOrigin's piece
     SolidAngleTables prevTables;
 
+    // With --max-depth m, as in the bidirectional tracer (docs/mis.md, "Passing through
+    // media at the last event"): past the last event only an emitter hit could count, so the
+    // walk stops there when no emitter can be hit; and on the ray towards the last event,
+    // where every light has a position (point and spot lights only), the equi-angular
+    // connection covers the whole medium part, so the walk passes through it (weight T)
+    // instead of sampling a collision that would serve only the free-flight connection, and
+    // reaches the surface behind.
+    const bool limited = options_.maxDepth >= 0;
+    const bool passLast = limited && nee && mode != ConnectMode::Density && !scene.hasHittableLights() &&
+                          !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();
+
     for (int guard = 0; guard < 100000; ++guard) {
+        if (limited && depth >= maxDepth && !scene.hasHittableLights()) break;
+        const bool passing = passLast && depth + 1 == maxDepth;
         // The ray leaves vertex `depth`; its pieces between invisible boundaries are walked
         // one by one, each with the equi-angular strategy and free flight of its own.
         const uint32_t dims = dim::walkVertex(dim::Side::Camera, depth);
@@ -332,7 +347,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
                 const PartMeter meter(stats, kPtSegmentRays, kPtSegmentCalls);
-                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables, stats);
+                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables,
+                                              passing, stats);
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, kPtSolidAngleRays, kPtSolidAngleCalls);
@@ -340,6 +356,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                                              repeat, tables, stats);
             }
 
+            if (passing) {  // (above) weight T
+                beta *= m->transmittance(Ray{ray.o, ray.d}, piece.t0, piece.t1);
+                if (isBlack(beta) || !piece.boundary) break;
+                continue;
+            }
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
             // over the channels.
             const float uChannel = m->grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);

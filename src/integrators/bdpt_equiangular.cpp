@@ -13,8 +13,8 @@ EquiAngularAim equiAngularAim(const Scene& scene, const PathVertex& a, bool ends
         aim.toCamera = true;
     } else if (a.kind == VertexKind::Light || (endsPath && a.isSurface() && a.light >= 0)) {
         const Light& l = scene.lights()[a.light];
-        if (l.kind == LightKind::Directional) return EquiAngularAim{};
-        if (l.kind != LightKind::Triangle) aim.anchor = l.position;
+        if (l.atInfinity()) return EquiAngularAim{};
+        if (!l.isPlanar()) aim.anchor = l.position;  // else the vertex: a point on the emitter
         aim.clip = &l;
     }
     return aim;
@@ -46,7 +46,7 @@ double equiAngularDensity(const Scene& scene, const PathVertex& prev, const Path
 
 bool equiAngularTowardsAim(const Scene& scene, const EquiAngularAim& aim, const MediumSegment& seg, int width,
                            int height, float g, EquiAngular* out) {
-    if (aim.clip) return equiAngularTowards(scene, *aim.clip, aim.anchor, seg, g, out);
+    if (aim.clip) return equiAngularTowards(*aim.clip, aim.anchor, seg, g, out);
     float a = 0, b = seg.tEnd;
     // The camera as a point light: only the part of the ray inside the view frustum can
     // reach the film.

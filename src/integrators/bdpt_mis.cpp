@@ -352,7 +352,7 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
     Vec3 w = y.p - z.p;
     const float d = length(w);
     w = d > 0 ? w / d : Vec3(0.0f);
-    const bool directional = y.kind == VertexKind::Light && scene.lights()[y.light].kind == LightKind::Directional;
+    const bool directional = y.kind == VertexKind::Light && scene.lights()[y.light].atInfinity();
     if (t >= 2) {
         if (directional) {
             // Parallel rays: the emission disk's area density projects onto z(t−1), no 1/d².

@@ -59,12 +59,7 @@ SurfaceHit vertexHit(const PathVertex& v) {
 // radiance for area and sphere lights, intensity (with the spot cone) for point and spot.
 Spectrum emitted(const Scene& scene, const PathVertex& v, Vec3 w) {
     const Light& l = scene.lights()[v.light];
-    switch (l.kind) {
-    case LightKind::Point: return l.intensity;
-    case LightKind::Spot: return l.intensity * spotAttenuation(l, dot(w, l.direction));
-    case LightKind::Directional: return l.intensity;
-    default: return scene.emission(vertexHit(v), w);
-    }
+    return l.isDelta() ? deltaEmission(l, w) : scene.emission(vertexHit(v), w);
 }
 
 // f·|cos| (surface), phase (medium) for light arriving from wLight and leaving along wCamera
@@ -226,7 +221,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     const PathVertex& zPrev = c.camera[t - 2];
     Vec3 anchor;
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
-                      !zPrev.delta && equiAngularAnchor(scene, l, uLight, &anchor);
+                      !zPrev.delta && lightAnchor(l, uLight, &anchor);
     const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
     for (int variant = 0; variant < 2; ++variant) {
@@ -253,8 +248,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         Spectrum f = scatter(scene, z, z.wo, ls.wi, TransportMode::Radiance);
         if (isBlack(f)) continue;
         // Stop just short of an emitting surface so it does not shadow itself.
-        const bool surfaceLight = l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
-        Connection conn = connectPoints(scene, leaving(z.p, surfaceNormal(z), ls.wi, ls.dist, surfaceLight, lightTarget(scene, yi)),
+        Connection conn = connectPoints(scene, leaving(z.p, surfaceNormal(z), ls.wi, ls.dist, l.hasSurface(), lightTarget(scene, yi)),
                                         mediaTowards(scene, z, ls.wi), z.isMedium(), false, c.stats);
         if (isBlack(conn.T)) continue;
         Spectrum contrib = z.beta * f * ls.Le * conn.T / (pick * ls.pdf);
@@ -263,14 +257,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         if (c.weighted) {
             // The sampled light vertex y0, with the light subpath's densities. A directional
             // light's vertex sits up its beam (its direction is all the weights read).
-            Vec3 n(0.0f);
-            if (yl.kind == LightKind::Sphere) n = normalize(ls.p - yl.position);
-            if (yl.kind == LightKind::Triangle) {
-                const Mesh& mesh = scene.mesh(yl.mesh);
-                const uint32_t* idx = &mesh.indices[3 * yl.triangle];
-                n = normalize(cross(mesh.positions[idx[1]] - mesh.positions[idx[0]], mesh.positions[idx[2]] - mesh.positions[idx[0]]));
-                if (dot(n, -ls.wi) < 0) n = -n;
-            }
+            const Vec3 n = lightNormalFacing(yl, ls.p, -ls.wi);
             Vec3 p = std::isinf(ls.dist) ? z.p + ls.wi * std::max(1.0f, 2.0f * scene.boundsRadius()) : ls.p;
             float pos, dir;
             emissionPdf(scene, yl, p, n, -ls.wi, &pos, &dir);
@@ -312,7 +299,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         const Vec3 toCam = cc.wi;
         Spectrum f;
         if (y.kind == VertexKind::Light) {
-            if (scene.lights()[y.light].kind == LightKind::Directional) continue;
+            if (scene.lights()[y.light].atInfinity()) continue;
             f = emitted(scene, y, toCam) * (dot(y.ng, y.ng) > 0 ? std::abs(dot(y.ng, toCam)) : 1.0f);
         } else {
             f = scatter(scene, y, toCam, y.wo, TransportMode::Importance);

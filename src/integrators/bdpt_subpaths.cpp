@@ -5,26 +5,9 @@
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
+#include "brume/scene/light_geometry.h"
 
 namespace brume {
-
-namespace {
-
-// Texture coordinates of point p on a triangle light, from barycentrics by areas.
-void triangleLightUv(const Mesh& mesh, int triangle, Vec3 p, float* u, float* v) {
-    if (mesh.uvs.empty()) return;
-    const uint32_t* idx = &mesh.indices[3 * triangle];
-    Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
-    Vec3 n = cross(p1 - p0, p2 - p0);
-    float nn = dot(n, n);
-    float b1 = nn > 0 ? dot(cross(p - p0, p2 - p0), n) / nn : 0.0f;
-    float b2 = nn > 0 ? dot(cross(p1 - p0, p - p0), n) / nn : 0.0f;
-    float b0 = 1 - b1 - b2;
-    *u = mesh.uvs[2 * idx[0]] * b0 + mesh.uvs[2 * idx[1]] * b1 + mesh.uvs[2 * idx[2]] * b2;
-    *v = mesh.uvs[2 * idx[0] + 1] * b0 + mesh.uvs[2 * idx[1] + 1] * b1 + mesh.uvs[2 * idx[2] + 1] * b2;
-}
-
-}  // namespace
 
 PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos) {
     const Light& light = scene.lights()[li];
@@ -33,21 +16,17 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
     y0.light = li;
     y0.p = p;
     y0.ng = y0.ns = n;
-    y0.deltaLight = light.kind == LightKind::Point || light.kind == LightKind::Spot ||
-                    light.kind == LightKind::Directional;
-    // A double-sided triangle may emit from its back, where other media may be.
+    y0.deltaLight = light.isDelta();
+    // A double-sided planar emitter may emit from its back, where other media may be.
     bool back = false;
-    if (light.kind == LightKind::Triangle) {
+    if (light.isPlanar()) {
         y0.mesh = light.mesh;
         y0.triangle = light.triangle;
-        const Mesh& mesh = scene.mesh(light.mesh);
-        triangleLightUv(mesh, light.triangle, p, &y0.u, &y0.v);
-        const uint32_t* idx = &mesh.indices[3 * light.triangle];
-        Vec3 front = cross(mesh.positions[idx[1]] - mesh.positions[idx[0]], mesh.positions[idx[2]] - mesh.positions[idx[0]]);
-        back = dot(n, front) < 0;
+        lightSurfaceUv(scene, light, p, &y0.u, &y0.v);
+        back = dot(n, light.shape.edgeCross()) < 0;
     }
     y0.media = scene.lightMedia(li, back);
-    y0.pdfFwd = Channels(light.kind == LightKind::Directional ? pick : pick * pdfPos);
+    y0.pdfFwd = Channels(light.atInfinity() ? pick : pick * pdfPos);
     y0.beta = Spectrum(1.0f / float(y0.pdfFwd[0]));
     return y0;
 }
@@ -74,7 +53,7 @@ int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sample
     float pick;
     int li = pickLight(scene, sampler, dim::kLightStart, 0, &pick);
     const Light& light = scene.lights()[li];
-    const bool directional = light.kind == LightKind::Directional;
+    const bool directional = light.atInfinity();
     if (directional) {
         // In an infinite ambient medium a directional light reaches nothing (as in pt).
         const Medium* amb = scene.medium(scene.desc().ambientMedium);

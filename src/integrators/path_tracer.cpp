@@ -82,17 +82,17 @@ struct Vertex {
     }
 };
 
-bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.kind == LightKind::Directional; }
+bool usesDensity(ConnectMode m, const Light& l) { return !variantOnly(m) || l.atInfinity(); }
 // D: in mis mode, for emissive triangles sampled by solid angle, on segments that pass close
 // to them (solidAngleDistanceApplies). It takes C's place there (docs/path-tracer.md: where D
 // is nearly exact, each further strategy adds to the MIS estimate's variance; C, whose 1/r²
 // towards a random light point is nearly singular close to the emitter, added 6–9×).
 bool usesSolidAngle(const Scene& scene, ConnectMode m, const Light& l, const MediumSegment& seg) {
-    return m == ConnectMode::Mis && l.kind == LightKind::Triangle && scene.emitterSampling() == EmitterSampling::SolidAngle &&
+    return m == ConnectMode::Mis && l.isPlanar() && scene.emitterSampling() == EmitterSampling::SolidAngle &&
            solidAngleDistanceApplies(scene, l, seg);
 }
 bool usesEquiAngular(const Scene& scene, ConnectMode m, const Light& l, const MediumSegment& seg) {
-    return m != ConnectMode::Density && l.kind != LightKind::Directional && !usesSolidAngle(scene, m, l, seg);
+    return m != ConnectMode::Density && !l.atInfinity() && !usesSolidAngle(scene, m, l, seg);
 }
 
 // A light path through a medium vertex: the light, the point y on it, and the densities the
@@ -125,11 +125,12 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         // C draws its light point on the light it picked: y's own.
         const Light& yl = scene.lights()[size_t(path.yLight)];
         const Vec3 x = o.seg.o + o.seg.d * o.t;
-        const float pArea = yl.kind == LightKind::Triangle ? lightPdfByArea(scene, yl, x, path.y, Vec3(0.0f)) : path.pL;
-        const float pick = yl.kind == LightKind::Triangle ? scene.lightDistribution().pmf(path.yLight) : path.pick;
+        const bool onSurface = yl.isPlanar();  // C's anchor is its light point (lightAnchor)
+        const float pArea = onSurface ? lightPdfByArea(scene, yl, x, path.y, Vec3(0.0f)) : path.pL;
+        const float pick = onSurface ? scene.lightDistribution().pmf(path.yLight) : path.pick;
         EquiAngular ea;
-        const Vec3 anchor = yl.kind == LightKind::Triangle ? path.y : yl.position;
-        if (pArea > 0 && equiAngularTowards(scene, yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
+        const Vec3 anchor = onSurface ? path.y : yl.position;
+        if (pArea > 0 && equiAngularTowards(yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
             p.c = double(pick) * pArea * equiAngularPdf(ea, o.t);
     }
     if (path.d >= 0) {
@@ -214,12 +215,13 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     if (!usesEquiAngular(scene, mode, light, seg)) return Spectrum(0.0f);
     // Numbers only for what this light needs: a triangle's anchor (also its light point), a
     // sphere's light point.
-    const Sample2 uAnchor = light.kind == LightKind::Triangle ? sampler.get2D(dims + dim::kAnchor, repeat) : Sample2{0, 0};
+    const bool onSurface = light.isPlanar();  // the anchor is a point on the emitter (lightAnchor)
+    const Sample2 uAnchor = onSurface ? sampler.get2D(dims + dim::kAnchor, repeat) : Sample2{0, 0};
     const float uT = sampler.get1D(dims + dim::kEquiAngular, repeat);
     Vec3 anchor;
     EquiAngular ea;
-    if (!equiAngularAnchor(scene, light, uAnchor, &anchor) ||
-        !equiAngularTowards(scene, light, anchor, seg, connectAnisotropy(mode, seg.medium->g), &ea))
+    if (!lightAnchor(light, uAnchor, &anchor) ||
+        !equiAngularTowards(light, anchor, seg, connectAnisotropy(mode, seg.medium->g), &ea))
         return Spectrum(0.0f);
     MediumOrigin origin{seg, sampleEquiAngular(ea, uT), 0.0f};
     float pea = equiAngularPdf(ea, origin.t);
@@ -227,7 +229,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     Vec3 x = seg.o + seg.d * origin.t;
     // A triangle's light point by area from the same numbers lands exactly on the anchor.
     LightSample ls;
-    if (!sampleLightByArea(scene, light, x, light.kind == LightKind::Triangle ? uAnchor : lightPointNumbers(light, sampler, dims + dim::kLightPoint, repeat),
+    if (!sampleLightByArea(scene, light, x, onSurface ? uAnchor : lightPointNumbers(light, sampler, dims + dim::kLightPoint, repeat),
                            &ls) || isBlack(ls.Le))
         return Spectrum(0.0f);
     const Medium& m = *seg.medium;
@@ -237,7 +239,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, phase};
     path.c = double(pick) * ls.pdf * pea;
-    if (light.kind == LightKind::Triangle) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
+    if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
     if (mode != ConnectMode::Mis || passing) p.a = 0;  // equiangular, product, passing: C replaces A
     float w = powerWeight(p.c, p);

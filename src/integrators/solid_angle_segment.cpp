@@ -9,7 +9,7 @@
 namespace brume {
 
 bool solidAngleDistanceApplies(const Scene& scene, const Light& light, const MediumSegment& seg) {
-    if (light.kind != LightKind::Triangle || !(light.emitterArea > 0)) return false;
+    if (!light.isPlanar() || !(light.emitterArea > 0)) return false;
     const Vec3 c = light.emitterCentre;
     const float area = light.emitterArea;
     const float along = std::min(seg.tEnd, std::max(0.0f, dot(c - seg.o, seg.d)));
@@ -18,25 +18,23 @@ bool solidAngleDistanceApplies(const Scene& scene, const Light& light, const Med
 }
 
 bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSegment& seg, SolidAngleDistance* out) {
-    if (light.kind != LightKind::Triangle) return false;
+    if (!light.isPlanar()) return false;
     float a, b;
-    if (!clipToLight(scene, light, seg, &a, &b)) return false;
+    if (!clipToLight(light, seg, &a, &b)) return false;
     // The emitter: the triangle, or the rectangle it is half of (Light::partner), as triangles.
-    const Mesh& mesh = scene.mesh(light.mesh);
-    Vec3 tri[2][3];
-    const int halves = light.partner >= 0 ? 2 : 1;
     // Halves in the order of their numbers: either half builds the same table, bit for bit.
-    const int first = light.partner >= 0 ? std::min(light.triangle, light.partner) : light.triangle;
-    const int second = std::max(light.triangle, light.partner);
-    for (int h = 0; h < halves; ++h) {
-        const uint32_t* idx = &mesh.indices[3 * (h == 0 ? first : second)];
-        for (int k = 0; k < 3; ++k) tri[h][k] = mesh.positions[idx[k]];
+    const EmitterTriangle* tri[2] = {&light.shape, nullptr};
+    const int halves = light.partner >= 0 ? 2 : 1;
+    if (halves == 2) {
+        const EmitterTriangle& other = scene.partnerOf(light).shape;
+        tri[0] = light.triangle < light.partner ? &light.shape : &other;
+        tri[1] = light.triangle < light.partner ? &other : &light.shape;
     }
-    const Vec3 p0 = tri[0][0], p1 = tri[0][1], p2 = tri[0][2];
+    const Vec3 p0 = tri[0]->p0;
     const double area = light.emitterArea;
     if (!(area > 0)) return false;
     const Vec3 c = light.emitterCentre;  // area-weighted centroid
-    const bool doubleSided = scene.material(light.mesh).doubleSided;
+    const bool doubleSided = light.doubleSided;
     SolidAngleDistance& s = *out;
     const Vec3 oc = c - seg.o;
     s.delta = dot(oc, seg.d);
@@ -52,7 +50,7 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
     const float step = float(s.thetaB - s.thetaA) / SolidAngleDistance::kBins;
     const float D = float(s.D), thetaA = float(s.thetaA);
     const Vec3 base = seg.o + seg.d * float(s.delta);
-    const Vec3 n = cross(p1 - p0, p2 - p0);
+    const Vec3 n = tri[0]->edgeCross();
     // An unbounded segment's last node just short of π/2 (tan = 1000), where q has its finite limit.
     constexpr int N = SolidAngleDistance::kBins;
     double q[N + 1], sum = 0;
@@ -64,7 +62,7 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
         // front side only for a one-sided emitter (n·(x − p0) > 0).
         float omega = 0;
         for (int h = 0; h < halves; ++h) {
-            const Vec3 r0 = tri[h][0] - x, r1 = tri[h][1] - x, r2 = tri[h][2] - x;
+            const Vec3 r0 = tri[h]->p0 - x, r1 = tri[h]->p1 - x, r2 = tri[h]->p2 - x;
             const float l0 = length(r0), l1 = length(r1), l2 = length(r2);
             const float triple = std::abs(dot(r0, cross(r1, r2)));
             const float den = l0 * l1 * l2 + dot(r0, r1) * l2 + dot(r0, r2) * l1 + dot(r1, r2) * l0;

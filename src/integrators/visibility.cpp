@@ -5,8 +5,8 @@ namespace brume {
 ShadowTarget lightTarget(const Scene& scene, int index) {
     ShadowTarget t;
     const Light& l = scene.lights()[index];
-    if (l.kind == LightKind::Sphere) t.sphereLight = index;
-    if (l.kind == LightKind::Triangle) t.mesh = l.mesh, t.triangle = l.triangle;
+    if (l.isPlanar()) t.mesh = l.mesh, t.triangle = l.triangle;  // a hit on its triangle arrives
+    else if (l.hasSurface()) t.sphereLight = index;
     return t;
 }
 

@@ -9,23 +9,6 @@ namespace brume {
 
 namespace {
 
-struct Triangle {
-    Vec3 p0, p1, p2;
-    Vec3 n;       // unit front (counter-clockwise) normal; arbitrary when area = 0
-    float area;
-};
-
-Triangle triangleOf(const Scene& scene, const Light& light) {
-    const Mesh& mesh = scene.mesh(light.mesh);
-    const uint32_t* idx = &mesh.indices[3 * size_t(light.triangle)];
-    Triangle t{mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]], Vec3(0, 0, 1), 0};
-    Vec3 c = cross(t.p1 - t.p0, t.p2 - t.p0);
-    float len = length(c);
-    t.area = 0.5f * len;
-    if (len > 0) t.n = c / len;
-    return t;
-}
-
 // Cosine of the spot's outer cone, kept in [−1, 1].
 float spotCosOuter(const Light& light) { return std::min(1.0f, std::max(-1.0f, light.cosOuter)); }
 
@@ -79,7 +62,7 @@ bool sampleEmission(const Scene& scene, const Light& light, Sample2 u1, Sample2 
         break;
     }
     case LightKind::Triangle: {
-        Triangle t = triangleOf(scene, light);
+        const EmitterTriangle& t = light.shape;
         if (!(t.area > 0)) return false;
         const Material& m = scene.material(light.mesh);
         Sample2 b = sampleUniformTriangle(u1);
@@ -166,7 +149,7 @@ void emissionPdf(const Scene& scene, const Light& light, Vec3 p, Vec3 n, Vec3 d,
         return;
     }
     case LightKind::Triangle: {
-        Triangle t = triangleOf(scene, light);
+        const EmitterTriangle& t = light.shape;
         if (!(t.area > 0)) return;
         *pdfPos = 1.0f / t.area;
         *pdfDir = triangleDirPdf(dot(t.n, d), scene.material(light.mesh).doubleSided);
@@ -179,6 +162,11 @@ void emissionPdf(const Scene& scene, const Light& light, Vec3 p, Vec3 n, Vec3 d,
         return;
     }
     }
+}
+
+Spectrum deltaEmission(const Light& light, Vec3 d) {
+    if (light.kind == LightKind::Spot) return light.intensity * spotAttenuation(light, dot(d, light.direction));
+    return light.intensity;
 }
 
 }  // namespace brume

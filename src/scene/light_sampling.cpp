@@ -11,22 +11,6 @@ namespace brume {
 
 namespace {
 
-struct TriangleGeometry {
-    Vec3 p0, p1, p2, n;  // n: unit front-face normal
-    float area;
-};
-
-TriangleGeometry triangleOf(const Scene& scene, const Light& light) {
-    const Mesh& mesh = scene.mesh(light.mesh);
-    const uint32_t* idx = &mesh.indices[3 * light.triangle];
-    TriangleGeometry g{mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]], Vec3(), 0};
-    Vec3 c = cross(g.p1 - g.p0, g.p2 - g.p0);
-    float len = length(c);
-    g.area = 0.5f * len;
-    g.n = len > 0 ? c / len : Vec3(0, 0, 1);
-    return g;
-}
-
 // 1 − cosθmax of the cone a sphere of radius r subtends at distance dc > r, without the
 // cancellation of 1 − sqrt(1 − s²) for small s = r/dc.
 float sphereConeOneMinusCos(float r, float dc) {
@@ -36,7 +20,7 @@ float sphereConeOneMinusCos(float r, float dc) {
 
 // The light sample at point p of the triangle (barycentrics b0, b1), reached along unit wi
 // from ref at distance dist: its emitted radiance (emissive texture at p's uv).
-void finishTriangleSample(const Scene& scene, const Light& light, const TriangleGeometry& g, Vec3 p, float b0,
+void finishTriangleSample(const Scene& scene, const Light& light, const EmitterTriangle& g, Vec3 p, float b0,
                           float b1, Vec3 wi, float dist, LightSample* out) {
     out->wi = wi;
     out->p = p;
@@ -58,7 +42,7 @@ void finishTriangleSample(const Scene& scene, const Light& light, const Triangle
 }
 
 // The barycentrics (b0, b1) of p, on the triangle's plane; true if p lies in the triangle.
-bool barycentricInside(const TriangleGeometry& g, Vec3 p, float* b0, float* b1) {
+bool barycentricInside(const EmitterTriangle& g, Vec3 p, float* b0, float* b1) {
     const float inv = 1.0f / (2.0f * g.area);
     *b0 = dot(cross(g.p1 - p, g.p2 - p), g.n) * inv;
     *b1 = dot(cross(g.p2 - p, g.p0 - p), g.n) * inv;
@@ -79,7 +63,7 @@ float rectanglePdf(const Scene& scene, const Light& light, double omega) {
 // (density 1/Ω) or uniform by area (density 1/A turned into dist²/(A·|cosθ_light|)).
 // omega > 0: by solid angle, the triangle (or its rectangle) subtending omega at ref; 0: by area.
 bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u, double omega, LightSample* out) {
-    TriangleGeometry g = triangleOf(scene, light);
+    const EmitterTriangle& g = light.shape;
     if (!(g.area > 0)) return false;
     const bool doubleSided = scene.material(light.mesh).doubleSided;
     if (omega > 0 && light.partner >= 0) {
@@ -87,15 +71,13 @@ bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u,
         SphericalRectangle rect;
         if (!makeSphericalRectangle(ref, light.rectCorner, light.rectEdgeU, light.rectEdgeV, &rect)) return false;
         const Vec3 p = sampleSphericalRectangle(rect, u);
-        Light half = light;
-        TriangleGeometry h = g;
+        const Light* half = &light;
         float b0, b1;
         if (!barycentricInside(g, p, &b0, &b1)) {
-            half.triangle = light.partner;
-            half.partner = light.triangle;
-            h = triangleOf(scene, half);
-            barycentricInside(h, p, &b0, &b1);
+            half = &scene.partnerOf(light);
+            barycentricInside(half->shape, p, &b0, &b1);
         }
+        const EmitterTriangle& h = half->shape;
         const Vec3 d = p - ref;
         const float dist = length(d);
         if (!(dist > 0)) return false;
@@ -103,7 +85,7 @@ bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u,
         const float cosLight = dot(h.n, -wi);
         if (cosLight == 0 || (!doubleSided && cosLight < 0)) return false;
         out->pdf = rectanglePdf(scene, light, omega);
-        finishTriangleSample(scene, half, h, p, std::max(0.0f, b0), std::max(0.0f, b1), wi, dist, out);
+        finishTriangleSample(scene, *half, h, p, std::max(0.0f, b0), std::max(0.0f, b1), wi, dist, out);
         return out->pdf > 0 && std::isfinite(out->pdf);
     }
     if (omega > 0) {
@@ -139,7 +121,7 @@ bool sampleTriangle(const Scene& scene, const Light& light, Vec3 ref, Sample2 u,
 }
 
 float trianglePdf(const Scene& scene, const Light& light, Vec3 ref, Vec3 p, bool bySolidAngle, double omega) {
-    TriangleGeometry g = triangleOf(scene, light);
+    const EmitterTriangle& g = light.shape;
     Vec3 d = p - ref;
     float dist2 = dot(d, d);
     float cosLight = -dot(g.n, d) / std::sqrt(dist2);  // dot(n, −wi), as in sampleLight
@@ -160,13 +142,11 @@ bool samplesBySolidAngle(const Scene& scene, const Light& light, Vec3 ref, doubl
         if (omega) *omega = 0;
         return false;
     }
-    TriangleGeometry g = triangleOf(scene, light);
+    const EmitterTriangle& g = light.shape;
     double o = triangleSolidAngleSigned(ref, g.p0, g.p1, g.p2);
     if (light.partner >= 0) {
         // The rectangle's, summed in the order of the halves' numbers: the same bits from either.
-        Light half = light;
-        half.triangle = light.partner;
-        const TriangleGeometry h = triangleOf(scene, half);
+        const EmitterTriangle& h = scene.partnerOf(light).shape;
         const double other = triangleSolidAngleSigned(ref, h.p0, h.p1, h.p2);
         o = light.triangle < light.partner ? o + other : other + o;
     }
@@ -274,7 +254,7 @@ float lightPower(const Scene& scene, const Light& light) {
         const Material& m = scene.material(light.mesh);
         Spectrum L = m.emission;
         if (m.emissiveTexture >= 0) L *= scene.desc().textures[m.emissiveTexture].average();
-        return triangleOf(scene, light).area * kPi * average(L) * (m.doubleSided ? 2.0f : 1.0f);
+        return light.shape.area * kPi * average(L) * (m.doubleSided ? 2.0f : 1.0f);
     }
     }
     return 0.0f;

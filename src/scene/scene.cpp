@@ -124,7 +124,19 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     }
     pairRectangles(desc_, lights_, firstTriangleLight_);
     for (Light& l : lights_) {
-        if (l.kind != LightKind::Triangle) continue;
+        if (!l.isPlanar()) continue;
+        // The emitter record (light.h): the triangle's shape, its material's sides.
+        {
+            const Mesh& mesh = desc_.meshes[size_t(l.mesh)];
+            const uint32_t* idx = &mesh.indices[3 * size_t(l.triangle)];
+            EmitterTriangle& t = l.shape;
+            t.p0 = mesh.positions[idx[0]], t.p1 = mesh.positions[idx[1]], t.p2 = mesh.positions[idx[2]];
+            const Vec3 c = t.edgeCross();
+            const float len = length(c);
+            t.area = 0.5f * len;
+            t.n = len > 0 ? c / len : Vec3(0, 0, 1);
+            l.doubleSided = desc_.materials[size_t(mesh.material)].doubleSided;
+        }
         // In the order of the halves' numbers: the same bits from either half of a rectangle.
         const Mesh& mesh = desc_.meshes[size_t(l.mesh)];
         Vec3 sum(0.0f);
@@ -142,7 +154,7 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         l.emitterArea = total;
     }
     std::vector<float> power(lights_.size());
-    for (size_t i = 0; i < lights_.size(); ++i) power[i] = lightPower(*this, lights_[i]);
+    for (size_t i = 0; i < lights_.size(); ++i) power[i] = lights_[i].power = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);
     for (const Light& l : lights_) {
         hasHittableLights_ |= l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
@@ -175,12 +187,8 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
                 lightMedia_[i] = lightMedia_[lights_.size() + i] = mediaAt(l.position);
                 continue;
             }
-            const Mesh& mesh = desc_.meshes[l.mesh];
-            const uint32_t* idx = &mesh.indices[3 * l.triangle];
-            Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
-            Vec3 c = (p0 + p1 + p2) / 3.0f, n = cross(p1 - p0, p2 - p0);
-            float len = length(n);
-            n = len > 0 ? n / len : Vec3(0, 0, 1);
+            const EmitterTriangle& t = l.shape;
+            const Vec3 c = (t.p0 + t.p1 + t.p2) / 3.0f, n = t.n;
             float eps = rayEpsilon(c);
             lightMedia_[i] = mediaAt(c + n * eps);
             lightMedia_[lights_.size() + i] = mediaAt(c - n * eps);

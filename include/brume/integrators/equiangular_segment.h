@@ -5,7 +5,7 @@
 #pragma once
 #include "brume/sampling/equiangular.h"
 #include "brume/sampling/sampler.h"
-#include "brume/scene/light.h"
+#include "brume/scene/light_geometry.h"
 #include "brume/scene/medium.h"
 
 namespace brume {
@@ -19,23 +19,13 @@ struct MediumSegment {
     const Medium* medium = nullptr;
 };
 
-// The point equi-angular sampling aims at: a point or spot light's position, a sphere
-// light's centre, a triangle light's uniformly sampled point (light point first, as in the
-// talk). False for directional lights, which have none.
-bool equiAngularAnchor(const Scene& scene, const Light& light, Sample2 u, Vec3* anchor);
-
 // Set up equi-angular sampling on seg towards anchor, clipped for the light; false if the
 // clipped segment is empty (no point on it can receive light). g ≠ 0: product sampling with
 // that anisotropy (connectAnisotropy).
-bool equiAngularTowards(const Scene& scene, const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
+bool equiAngularTowards(const Light& light, Vec3 anchor, const MediumSegment& seg, float g,
                         EquiAngular* out);
 
-// The part [*t0, *t1) of seg that the light can reach: a spot light's cone, a one-sided
-// emitter's front half-space, else all of it. False if nothing remains.
-bool clipToLight(const Scene& scene, const Light& light, const MediumSegment& seg, float* t0, float* t1);
-
-// Clip [t0, t1] to the points of the ray o + t·d inside a spot light's outer cone
-// (a superset at worst). False if nothing remains.
-bool clipToSpotCone(const Light& spot, Vec3 o, Vec3 d, float* t0, float* t1);
+// The part [*t0, *t1) of seg that the light can reach (clipRayToLight, light_geometry.h).
+bool clipToLight(const Light& light, const MediumSegment& seg, float* t0, float* t1);
 
 }  // namespace brume

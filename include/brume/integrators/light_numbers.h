@@ -17,8 +17,7 @@ inline int pickLight(const Scene& scene, const Sampler& sampler, uint32_t dims, 
 // The numbers for a point on the light (dimension `dim`): a triangle or sphere light has
 // extent; a point, spot or directional light's sample is fixed and draws nothing.
 inline Sample2 lightPointNumbers(const Light& light, const Sampler& sampler, uint32_t dim, uint32_t repeat) {
-    const bool extent = light.kind == LightKind::Triangle || light.kind == LightKind::Sphere;
-    return extent ? sampler.get2D(dim, repeat) : Sample2{0.5f, 0.5f};
+    return light.hasSurface() ? sampler.get2D(dim, repeat) : Sample2{0.5f, 0.5f};
 }
 
 }  // namespace brume

@@ -9,6 +9,16 @@ namespace brume {
 
 enum class LightKind { Point, Spot, Sphere, Directional, Triangle };
 
+// An emissive triangle's shape: its corners in the mesh's order, unit front (counter-clockwise)
+// normal ((0, 0, 1) when degenerate) and area.
+struct EmitterTriangle {
+    Vec3 p0, p1, p2;
+    Vec3 n{0, 0, 1};
+    float area = 0;
+    // The unnormalised normal (p1 − p0) × (p2 − p0), as half-space tests take it.
+    Vec3 edgeCross() const { return cross(p1 - p0, p2 - p0); }
+};
+
 struct Light {
     LightKind kind = LightKind::Point;
     Vec3 position;                 // point, spot, sphere: centre
@@ -25,6 +35,25 @@ struct Light {
     // Triangle: the emitter's area-weighted centroid and area (of the rectangle with a partner).
     Vec3 emitterCentre;
     float emitterArea = 0;
+    // The emitter record, built once at load (Scene): a triangle's shape and whether its
+    // material emits from both sides; every light's power (grey average, lightPower).
+    EmitterTriangle shape;
+    bool doubleSided = false;
+    float power = 0;
+
+    // What integrators ask of a light instead of its kind (docs/architecture.md, "Lights"):
+    // a delta light (point, spot, directional) has no area: only a connection reaches it, and
+    // its sample draws no numbers.
+    bool isDelta() const { return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional; }
+    // A directional light: no position, its rays come from outside the scene.
+    bool atInfinity() const { return kind == LightKind::Directional; }
+    // An emitter with a surface that rays can hit (triangle, sphere).
+    bool hasSurface() const { return kind == LightKind::Triangle || kind == LightKind::Sphere; }
+    // A planar emitter with corners (an emissive triangle, half a rectangle with a partner):
+    // sampled by area or by solid angle, and by distance tables along a ray
+    // (solid_angle_segment.h).
+    // Equi-angular sampling then aims at a point drawn on it by area, not at a position.
+    bool isPlanar() const { return kind == LightKind::Triangle; }
 };
 
 // glTF spot attenuation: scale = 1/max(0.001, cosInner − cosOuter), offset = −cosOuter·scale,

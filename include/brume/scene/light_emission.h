@@ -50,4 +50,9 @@ bool sampleEmission(const Scene& scene, const Light& light, Sample2 u1, Sample2 
 // needed and is ignored.
 void emissionPdf(const Scene& scene, const Light& light, Vec3 p, Vec3 n, Vec3 d, float* pdfPos, float* pdfDir);
 
+// What a delta light (Light::isDelta) emits in direction d: a point light's intensity, a spot
+// light's times its cone attenuation, a directional light's irradiance. Emission from a light
+// with a surface is Scene::emission at the point.
+Spectrum deltaEmission(const Light& light, Vec3 d);
+
 }  // namespace brume

@@ -81,6 +81,8 @@ public:
     bool occluded(const Ray& ray, int ignoreLight = -1) const;
     // Light index of an emissive triangle, or -1.
     int triangleLight(int mesh, int triangle) const;
+    // The other half of a rectangle (Light::partner ≥ 0).
+    const Light& partnerOf(const Light& l) const { return lights_[size_t(triangleLight(l.mesh, l.partner))]; }
     // Emitted radiance leaving a surface point towards direction w (unit, away from it).
     Spectrum emission(const SurfaceHit& hit, Vec3 w) const;
     // The BSDF at a point of mesh `mesh` (texture coordinates u, v; normals as in SurfaceHit),

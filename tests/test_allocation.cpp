@@ -39,7 +39,7 @@ BdptOptions autoOptions(int maxDepth) {
 BdptOptions forcedOptions(int maxDepth, const BdptAllocation& a) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
     o.connect = ConnectMode::Mis;
-    a.applyTo(o);
+    o.allocation = a;
     return o;
 }
 

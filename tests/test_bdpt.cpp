@@ -18,6 +18,13 @@ using namespace brume::test;
 
 namespace {
 
+// Only strategy (s, t), weighted or not (BdptHooks).
+BdptOptions onlyStrategy(int maxDepth, int s, int t, bool weighted = false) {
+    BdptOptions o{maxDepth, MisHeuristic::Power};
+    o.hooks.onlyS = s, o.hooks.onlyT = t, o.hooks.weighted = weighted;
+    return o;
+}
+
 // Block estimates must agree within zBound(compared) standard errors (pixel_estimates.h).
 // The number of estimates compared at once: blocks not skipped × channels.
 int compared(const std::vector<bool>& skip) { return 3 * int(std::count(skip.begin(), skip.end(), false)); }
@@ -161,7 +168,7 @@ TEST_CASE("each bdpt strategy alone is unbiased (depth-0 and depth-1 strategies 
     struct S { int s, t; const std::vector<PixelEstimate>* ref; };
     const S strategies[] = {{0, 2, &ref0}, {1, 1, &ref0}, {0, 3, &exact1}, {1, 2, &exact1}, {2, 1, &exact1}};
     for (const S& st : strategies) {
-        BdptIntegrator only(BdptOptions{st.s + st.t - 2, MisHeuristic::Power, st.s, st.t});
+        BdptIntegrator only(onlyStrategy(st.s + st.t - 2, st.s, st.t));
         auto est = estimateFilm(*scene, only, W, W, 64, 16, 9 + uint64_t(st.s), B);
         std::string where;
         double z = worstZ(est, *st.ref, none, W / B, &where);
@@ -190,7 +197,7 @@ TEST_CASE("bdpt strategy images add up to the image", "[bdpt]") {
             for (int s = 0; s <= d + 2; ++s) {
                 int t = d + 2 - s;
                 if (t < 1) continue;
-                BdptOptions opt{depth, MisHeuristic::Power, s, t, true};
+                BdptOptions opt = onlyStrategy(depth, s, t, true);
                 opt.directLightTracing = share;
                 Film f(W, W);
                 render(*scene, BdptIntegrator(opt), o, f);
@@ -224,7 +231,7 @@ TEST_CASE("bdpt strategy images split into free-flight and equi-angular variants
                 if (t < 1) continue;
                 for (int variant : {0, 1}) {
                     BdptOptions opt = base;
-                    opt.onlyS = s, opt.onlyT = t, opt.weighted = true, opt.onlyVariant = variant;
+                    opt.hooks.onlyS = s, opt.hooks.onlyT = t, opt.hooks.weighted = true, opt.hooks.onlyVariant = variant;
                     Film f(W, W);
                     render(*scene, BdptIntegrator(opt), o, f);
                     for (int y = 0; y < W; ++y)
@@ -336,7 +343,7 @@ TEST_CASE("bdpt with equi-angular light connections matches pt", "[bdpt][equiang
         BdptOptions opt{c.depth, MisHeuristic::Power};
         opt.connect = c.mode;
         opt.exactEquiAngular = c.exact;
-        opt.generalConnection = c.connectP;
+        opt.allocation.generalConnection = c.connectP;
         BdptIntegrator bdpt(opt);
         // Blocks of 4×4 pixels: single equi-angular connections near a light have heavy tails.
         // 64 batches, not 16: the bound is Gaussian, and a standard error estimated from 16
@@ -365,7 +372,7 @@ TEST_CASE("each equi-angular bdpt strategy alone is unbiased", "[bdpt][equiangul
     std::vector<bool> none(ref1.size(), false);
     // (1, 3), (2, 2): light connections; (3, 1): a camera connection (the camera as a point light).
     for (auto [s, t] : {std::pair<int, int>{1, 3}, {2, 2}, {3, 1}}) {
-        BdptOptions opt{2, MisHeuristic::Power, s, t};
+        BdptOptions opt = onlyStrategy(2, s, t);
         opt.connect = ConnectMode::EquiAngular;
         opt.generalEquiAngular = true;  // (2, 2) has its equi-angular variant only then
         auto est = estimateFilm(*scene, BdptIntegrator(opt), W, W, 64, 16, 40 + uint64_t(s), B);

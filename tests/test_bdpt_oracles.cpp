@@ -24,7 +24,7 @@ constexpr int kBatches = 32;
 BdptIntegrator makeBdpt(int maxDepth, ConnectMode mode, float generalConnection = 1) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
     o.connect = mode;
-    o.generalConnection = generalConnection;
+    o.allocation.generalConnection = generalConnection;
     return BdptIntegrator(o);
 }
 

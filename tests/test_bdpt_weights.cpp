@@ -338,9 +338,9 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         opt.connect = connect;
         opt.exactEquiAngular = exact;
         opt.generalEquiAngular = general;
-        opt.generalConnection = connectP;
+        opt.allocation.generalConnection = connectP;
         if (allocation) {
-            allocation->applyTo(opt);
+            opt.allocation = *allocation;
             checker.connectP = allocation->lightSubpaths ? allocation->generalConnection : 0;
             checker.cameraCount = allocation->lightSubpaths && allocation->lightTracing ? 1 : 0;
             checker.eaLight = allocation->equiAngularLight;
@@ -348,7 +348,7 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
         }
         opt.directLightTracing = directFactor;
         if (directFactor >= 0) checker.directFactor = directFactor;
-        opt.observer = &checker;
+        opt.hooks.observer = &checker;
         Film film(kW, kW);
         RenderOptions o;
         o.width = o.height = kW;

@@ -26,12 +26,15 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "brume/cli/build_identity.h"
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/integrator_settings.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/film/film.h"
 #include "brume/film/image_io.h"
@@ -47,29 +50,11 @@ namespace fs = std::filesystem;
 // ---------------------------------------------------------------------------------------
 // The methods. Adding one is adding a line to kMethods.
 
-std::unique_ptr<Integrator> pathTracer(int maxDepth, ConnectMode connect) {
-    PathTracerOptions options;
-    options.maxDepth = maxDepth;
-    options.connect = connect;
-    return std::make_unique<PathTracer>(options);
-}
-
-std::unique_ptr<Integrator> bdpt(int maxDepth, ConnectMode connect, bool exactEquiAngular = false,
-                                 bool generalEquiAngular = false, float generalConnection = BdptOptions{}.generalConnection) {
-    BdptOptions options;
-    options.generalConnection = generalConnection;
-    options.maxDepth = maxDepth;
-    options.connect = connect;
-    options.exactEquiAngular = exactEquiAngular;
-    options.generalEquiAngular = generalEquiAngular;
-    return std::make_unique<BdptIntegrator>(options);
-}
-
 struct BenchMethod {
     const char* name;
     bool byDefault;  // part of the default --methods list
     const char* what;
-    std::unique_ptr<Integrator> (*make)(int maxDepth);
+    IntegratorSettings settings;  // (without the depth, which the command line gives)
 };
 
 // A method with the sampler it renders with; named METHOD, or METHOD:independent.
@@ -81,42 +66,61 @@ struct BenchChoice {
     EmitterSampling emitters = EmitterSampling::SolidAngle;  // METHOD:area: emissive triangles by area
 };
 
-std::unique_ptr<Integrator> efficiencyAware(int maxDepth) {
-    BdptOptions options;
-    options.maxDepth = maxDepth;
-    options.connect = ConnectMode::Mis;
-    options.efficiencyAware = true;
-    return std::make_unique<BdptIntegrator>(options);
+IntegratorSettings pt(ConnectMode connect) {
+    IntegratorSettings s;
+    s.kind = IntegratorKind::PathTracer;
+    s.connect = connect;
+    return s;
+}
+
+IntegratorSettings bdpt(ConnectMode connect, bool exactEquiAngular = false, bool generalEquiAngular = false,
+                        float generalConnection = BdptAllocation{}.generalConnection) {
+    IntegratorSettings s;
+    s.kind = IntegratorKind::Bidirectional;
+    s.connect = connect;
+    s.exactEquiAngular = exactEquiAngular;
+    s.generalEquiAngular = generalEquiAngular;
+    s.allocation.generalConnection = generalConnection;
+    return s;
 }
 
 const BenchMethod kMethods[] = {
     {"auto", true, "the efficiency-aware bidirectional tracer (the default of brume render), pilot included",
-     efficiencyAware},
-    {"pt:density", true, "path tracer, light connections from the free-flight point",
-     [](int d) { return pathTracer(d, ConnectMode::Density); }},
-    {"pt:equiangular", true, "path tracer, equi-angular light connections",
-     [](int d) { return pathTracer(d, ConnectMode::EquiAngular); }},
+     IntegratorSettings{}},
+    {"pt:density", true, "path tracer, light connections from the free-flight point", pt(ConnectMode::Density)},
+    {"pt:equiangular", true, "path tracer, equi-angular light connections", pt(ConnectMode::EquiAngular)},
     {"pt:product", true, "path tracer, equi-angular x phase light connections (plain equi-angular where g = 0)",
-     [](int d) { return pathTracer(d, ConnectMode::Product); }},
-    {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling",
-     [](int d) { return pathTracer(d, ConnectMode::Mis); }},
-    {"bdpt:density", true, "bidirectional path tracer, free-flight vertices only (plain BDPT)",
-     [](int d) { return bdpt(d, ConnectMode::Density); }},
-    {"bdpt:equiangular", true, "bidirectional path tracer, equi-angular light connections",
-     [](int d) { return bdpt(d, ConnectMode::EquiAngular); }},
+     pt(ConnectMode::Product)},
+    {"pt:mis", true, "path tracer, both connections MIS-weighted with phase sampling", pt(ConnectMode::Mis)},
+    {"bdpt:density", true, "bidirectional path tracer, free-flight vertices only (plain BDPT)", bdpt(ConnectMode::Density)},
+    {"bdpt:equiangular", true, "bidirectional path tracer, equi-angular light connections", bdpt(ConnectMode::EquiAngular)},
     {"bdpt:product", false, "bidirectional path tracer, equi-angular x phase light and camera connections",
-     [](int d) { return bdpt(d, ConnectMode::Product); }},
-    {"bdpt:mis", true, "bidirectional path tracer, both connection variants MIS-weighted",
-     [](int d) { return bdpt(d, ConnectMode::Mis); }},
+     bdpt(ConnectMode::Product)},
+    {"bdpt:mis", true, "bidirectional path tracer, both connection variants MIS-weighted", bdpt(ConnectMode::Mis)},
     {"bdpt:mis-exact", false, "bdpt:mis with exact equi-angular densities in the weights (a ray each)",
-     [](int d) { return bdpt(d, ConnectMode::Mis, true); }},
+     bdpt(ConnectMode::Mis, true)},
     {"bdpt:mis-general", false, "bdpt:mis with equi-angular variants of general connections (s, t >= 2) too, all made",
-     [](int d) { return bdpt(d, ConnectMode::Mis, false, true, 1.0f); }},
+     bdpt(ConnectMode::Mis, false, true, 1.0f)},
     {"bdpt:mis-all", false, "bdpt:mis with every general connection made (s, t >= 2; default: each with probability 1/4)",
-     [](int d) { return bdpt(d, ConnectMode::Mis, false, false, 1.0f); }},
+     bdpt(ConnectMode::Mis, false, false, 1.0f)},
     {"bdpt:density-all", false, "bdpt:density with every general connection made",
-     [](int d) { return bdpt(d, ConnectMode::Density, false, false, 1.0f); }},
+     bdpt(ConnectMode::Density, false, false, 1.0f)},
 };
+
+std::unique_ptr<Integrator> makeMethod(const BenchMethod& method, int maxDepth) {
+    IntegratorSettings s = method.settings;
+    s.maxDepth = maxDepth;
+    return makeIntegrator(s);
+}
+
+// The integrator of a choice: its method's, or bdpt:mis with a named allocation.
+std::unique_ptr<Integrator> makeChoice(const BenchChoice& choice, int maxDepth) {
+    if (choice.allocation.empty()) return makeMethod(*choice.method, maxDepth);
+    IntegratorSettings s = bdpt(ConnectMode::Mis);
+    s.maxDepth = maxDepth;
+    allocationNamed(choice.allocation, ConnectMode::Mis, &s.allocation);
+    return makeIntegrator(s);
+}
 
 constexpr const char* kReferenceMethod = "pt:mis";
 constexpr uint64_t kReferenceSeed = 0x5EED;
@@ -362,80 +366,39 @@ std::string hex64(uint64_t value) {
     return text;
 }
 
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += char(c);
-        } else if (c < 0x20) {
-            char esc[8];
-            std::snprintf(esc, sizeof esc, "\\u%04x", c);
-            out += esc;
-        } else {
-            out += char(c);
-        }
-    }
-    return out + "\"";
-}
-
 // What a cached reference was rendered from, and by which build of brume (another build may
-// render differently): one "key": value pair per line of reference.json. Values are kept as
-// JSON text; a cache matches when every field does. The scene is keyed by the FNV-1a hash of
-// its bytes, so a regenerated scene at the same path does not reuse a stale reference
-// (buffers in separate files are not covered; the bundled scenes embed theirs).
-using Record = std::vector<std::pair<std::string, std::string>>;
+// render differently): the fields of reference.json. A cache matches when every field does.
+// The scene is keyed by the FNV-1a hash of its bytes, so a regenerated scene at the same path
+// does not reuse a stale reference (buffers in separate files are not covered; the bundled
+// scenes embed theirs).
+using Record = nlohmann::ordered_json;
 
 Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method, int maxDepth) {
     std::error_code ec;
     fs::path absolute = fs::weakly_canonical(fs::absolute(scenePath), ec);
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
-    return {
-        {"scene", jsonString(absolute.string())},
-        {"scene_fnv1a64", jsonString(hex64(fnv1a64File(scenePath)))},
-        {"width", std::to_string(res.width)},
-        {"height", std::to_string(res.height)},
-        {"spp", std::to_string(spp)},
-        {"seed", std::to_string(kReferenceSeed)},
-        {"method", jsonString(method)},
-        {"max_depth", std::to_string(maxDepth)},
-        {"brume_build_fnv1a64", jsonString(buildIdentity())},
-    };
+    Record r;
+    r["scene"] = absolute.string();
+    r["scene_fnv1a64"] = hex64(fnv1a64File(scenePath));
+    r["width"] = res.width;
+    r["height"] = res.height;
+    r["spp"] = spp;
+    r["seed"] = kReferenceSeed;
+    r["method"] = method;
+    r["max_depth"] = maxDepth;
+    r["brume_build_fnv1a64"] = buildIdentity();
+    return r;
 }
 
-std::string recordText(const Record& record) {
-    std::string text = "{\n";
-    for (size_t i = 0; i < record.size(); ++i)
-        text += "  " + jsonString(record[i].first) + ": " + record[i].second + (i + 1 < record.size() ? ",\n" : "\n");
-    return text + "}\n";
-}
-
-// Reads back what recordText() writes (nothing more general).
-std::map<std::string, std::string> parseRecord(const std::string& text) {
-    std::map<std::string, std::string> fields;
-    std::istringstream in(text);
-    std::string line;
-    while (std::getline(in, line)) {
-        size_t open = line.find('"');
-        size_t close = open == std::string::npos ? open : line.find('"', open + 1);
-        if (close == std::string::npos) continue;
-        size_t colon = line.find(':', close);
-        if (colon == std::string::npos) continue;
-        std::string value = line.substr(colon + 1);
-        while (!value.empty() && (value.back() == ',' || value.back() == ' ' || value.back() == '\r')) value.pop_back();
-        size_t first = value.find_first_not_of(' ');
-        fields[line.substr(open + 1, close - open - 1)] = first == std::string::npos ? "" : value.substr(first);
-    }
-    return fields;
-}
+std::string recordText(const Record& record) { return record.dump(2) + "\n"; }
 
 // Why a cached reference does not fit (empty when it does).
 std::string cacheMismatch(const std::string& cachedText, const Record& wanted) {
-    std::map<std::string, std::string> cached = parseRecord(cachedText);
-    for (const auto& [key, value] : wanted) {
-        auto it = cached.find(key);
-        if (it == cached.end()) return "reference.json has no " + key;
-        if (it->second != value) {
+    const Record cached = Record::parse(cachedText, nullptr, false);
+    if (cached.is_discarded() || !cached.is_object()) return "reference.json is not a JSON object";
+    for (const auto& [key, value] : wanted.items()) {
+        if (!cached.contains(key)) return "reference.json has no " + key;
+        if (cached[key] != value) {
             if (key == "scene_fnv1a64") return "the scene file changed";
             if (key == "brume_build_fnv1a64") return "made by another build of brume";
             if (key == "width" || key == "height") return "different resolution";
@@ -609,7 +572,7 @@ int runBench(const std::vector<std::string>& argv) {
             std::fflush(stdout);
             std::error_code ec;
             fs::remove(recordPath, ec);  // never a record beside an image it does not describe
-            std::unique_ptr<Integrator> integrator = a.referenceMethod->make(a.maxDepth);
+            std::unique_ptr<Integrator> integrator = makeMethod(*a.referenceMethod, a.maxDepth);
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;
@@ -645,16 +608,7 @@ int runBench(const std::vector<std::string>& argv) {
     for (double budget : a.budgets) {
         for (const BenchChoice& choice : a.methods) {
             const BenchChoice* method = &choice;
-            std::unique_ptr<Integrator> integrator = choice.method->make(a.maxDepth);
-            if (!choice.allocation.empty()) {
-                BdptOptions options;
-                options.maxDepth = a.maxDepth;
-                options.connect = ConnectMode::Mis;
-                BdptAllocation allocation;
-                allocationNamed(choice.allocation, ConnectMode::Mis, &allocation);
-                allocation.applyTo(options);
-                integrator = std::make_unique<BdptIntegrator>(options);
-            }
+            std::unique_ptr<Integrator> integrator = makeChoice(choice, a.maxDepth);
             RenderOptions options;
             options.width = res.width;
             options.height = res.height;

@@ -21,6 +21,7 @@
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/integrator_settings.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
 #include "brume/film/film.h"
@@ -189,7 +190,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
 
     if (a.scene.empty()) throw UsageError("render: no scene file given");
     if (a.output.empty()) throw UsageError("render: no output file given (-o OUT)");
-    if (a.integrator != "pt" && a.integrator != "bdpt" && a.integrator != "auto")
+    IntegratorKind kind;
+    if (!integratorKindNamed(a.integrator, &kind))
         throw UsageError("unknown integrator '" + a.integrator + "' (available: auto, bdpt, pt)");
     if (!a.allocation.empty()) {
         if (a.integrator != "bdpt") throw UsageError("--allocation needs --integrator bdpt");
@@ -221,17 +223,17 @@ void writeStrategyImages(const Scene& scene, BdptOptions bdpt, RenderOptions opt
     ::mkdir(dir.c_str(), 0777);
     const int maxDepth = bdpt.maxDepth < 0 ? 5 : std::min(bdpt.maxDepth, 5);
     options.progress = false;
-    bdpt.weighted = true;
+    bdpt.hooks.weighted = true;
     for (int depth = 0; depth <= maxDepth; ++depth)
         for (int s = 0; s <= depth + 2; ++s) {
             int t = depth + 2 - s;
             if (t < 1) continue;
-            bdpt.onlyS = s;
-            bdpt.onlyT = t;
+            bdpt.hooks.onlyS = s;
+            bdpt.hooks.onlyT = t;
             // With equi-angular connections each strategy has two variants, one image each.
             const bool variants = bdpt.connect != ConnectMode::Density;
             for (int variant = variants ? 0 : -1; variant <= (variants ? 1 : -1); ++variant) {
-                bdpt.onlyVariant = variant;
+                bdpt.hooks.onlyVariant = variant;
                 BdptIntegrator integrator(bdpt);
                 Film film(options.width, options.height);
                 render(scene, integrator, options, film, &gInterrupted);
@@ -330,6 +332,107 @@ namespace {
 
 // The render on this process; with several ranks, see distributed_render.h. Ranks other than
 // 0 check what they use themselves (arguments, scene) and leave the files to rank 0.
+// Loads the scene (its BRUME_render settings stand in for the options not given) and, under
+// mpirun, checks that every rank has the same arguments and scene file. The exit code to
+// return, or −1 to go on.
+int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv, RenderArgs& a,
+                    std::optional<Scene>& sceneStorage, Resolution& res) {
+    const bool lead = group.rank() == 0;
+    std::exception_ptr setupError;
+    try {
+        SceneDescription desc = loadSceneDescription(a.scene);
+        // The scene's BRUME_render settings stand in for the options not given.
+        if (a.res.width == 0 && desc.render.width > 0) a.res = Resolution{desc.render.width, desc.render.height};
+        if (!a.sppGiven && a.seconds <= 0 && desc.render.spp > 0) a.spp = desc.render.spp;
+        if (!a.maxDepthGiven && desc.render.maxDepth >= -1) a.maxDepth = desc.render.maxDepth;
+        res = imageResolution(desc.camera, a.res);
+        sceneStorage.emplace(std::move(desc));
+        sceneStorage->setEmitterSampling(a.emitters);
+    } catch (...) {
+        setupError = std::current_exception();
+    }
+    if (!group.allOk(!setupError)) {
+        if (setupError) std::rethrow_exception(setupError);
+        return kExitFailure;
+    }
+    if (group.distributed()) {
+        // Every rank must render the same thing: its arguments and its scene file's bytes.
+        Fnv1a64 h;
+        const uint64_t sceneHash = fnv1a64File(a.scene);
+        h.add(&sceneHash, sizeof sceneHash);
+        for (const std::string& arg : argv) h.add(arg.c_str(), arg.size() + 1);  // (with its terminator)
+        const uint64_t key = h.value();
+        std::vector<int> differing = group.ranksDiffering(key);
+        std::string which;
+        for (int r : differing) which += (which.empty() ? "" : ", ") + std::to_string(r);
+        const bool same = group.allOk(differing.empty());
+        if (!same) {
+            if (lead)
+                throw UsageError("rank" + std::string(differing.size() > 1 ? "s " : " ") + which +
+                                 " started with other arguments or another scene file than rank 0");
+            return kExitUsage;
+        }
+    }
+    return -1;
+}
+
+// The integrator the arguments ask for.
+IntegratorSettings integratorSettings(const RenderArgs& a) {
+    IntegratorSettings method;
+    integratorKindNamed(a.integrator, &method.kind);  // (checked with the arguments)
+    method.connect = a.connect;
+    method.maxDepth = a.maxDepth;
+    method.nextEventEstimation = a.nee;
+    method.heuristic = a.heuristic;
+    if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
+    return method;
+}
+
+// The bidirectional tracer whose strategies the strategy images show: with auto, the
+// allocation it chose; with light tracing's learned share (bdpt; auto in single scattering,
+// when its duel kept the allocation that carries it), that share.
+BdptOptions strategyOptions(BdptOptions o, const AllocationPlanner* planner, const DirectLightTracing* direct) {
+    if (planner) {
+        o.allocation = planner->chosen();
+        o.efficiencyAware = false;
+    }
+    if (direct && (!planner || planner->pilotAllocationAt(1 << 30))) o.directLightTracing = direct->factor();
+    return o;
+}
+
+// What the render did: its line (size, passes, time, speed, dropped samples, memory), auto's
+// choice, with --stats the work per sample and the learned share, under mpirun each rank's
+// speed and the load balance.
+void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, const Film& film, const RenderStats& stats,
+                  uint64_t nonFinite, const AllocationPlanner* planner, const DirectLightTracing* direct,
+                  const DistributedResult& shared) {
+    double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
+    std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite, peak %.0f MiB\n",
+                a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
+                double(stats.samples) / seconds, double(stats.rays) / seconds,
+                static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
+    if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
+    if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
+    if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
+        std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
+                    "camera side %.4g, light tracing %.4g)\n",
+                    direct->factor(), direct->cameraVariance(), direct->lightVariance());
+    if (group.distributed()) {
+        // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
+        // rendering time over the busiest one's.
+        double lo = 1e300, hi = 0;
+        std::string perRank;
+        for (size_t r = 0; r < shared.ranks.size(); ++r) {
+            const RankReport& rr = shared.ranks[r];
+            lo = std::min(lo, rr.busySeconds);
+            hi = std::max(hi, rr.busySeconds);
+            perRank += (r ? ", " : "") + std::to_string(int(rr.busySeconds > 0 ? rr.samples / rr.busySeconds : 0.0));
+        }
+        std::printf("ranks: %d; samples/s per rank: %s; load balance %.2f (least over most busy); reduction %.3f s\n",
+                    group.size(), perRank.c_str(), hi > 0 ? lo / hi : 1.0, shared.reduceSeconds);
+    }
+}
+
 int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     RenderArgs a;
     if (!parseRenderArgs(argv, a)) return kExitOk;
@@ -362,61 +465,12 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
 
     std::optional<Scene> sceneStorage;
     Resolution res;
-    try {
-        SceneDescription desc = loadSceneDescription(a.scene);
-        // The scene's BRUME_render settings stand in for the options not given.
-        if (a.res.width == 0 && desc.render.width > 0) a.res = Resolution{desc.render.width, desc.render.height};
-        if (!a.sppGiven && a.seconds <= 0 && desc.render.spp > 0) a.spp = desc.render.spp;
-        if (!a.maxDepthGiven && desc.render.maxDepth >= -1) a.maxDepth = desc.render.maxDepth;
-        res = imageResolution(desc.camera, a.res);
-        sceneStorage.emplace(std::move(desc));
-        sceneStorage->setEmitterSampling(a.emitters);
-    } catch (...) {
-        setupError = std::current_exception();
-    }
-    if (!group.allOk(!setupError)) {
-        if (setupError) std::rethrow_exception(setupError);
-        return kExitFailure;
-    }
+    if (const int exit = loadAgreedScene(group, argv, a, sceneStorage, res); exit >= 0) return exit;
     const Scene& scene = *sceneStorage;
-    if (group.distributed()) {
-        // Every rank must render the same thing: its arguments and its scene file's bytes.
-        Fnv1a64 h;
-        const uint64_t sceneHash = fnv1a64File(a.scene);
-        h.add(&sceneHash, sizeof sceneHash);
-        for (const std::string& arg : argv) h.add(arg.c_str(), arg.size() + 1);  // (with its terminator)
-        const uint64_t key = h.value();
-        std::vector<int> differing = group.ranksDiffering(key);
-        std::string which;
-        for (int r : differing) which += (which.empty() ? "" : ", ") + std::to_string(r);
-        const bool same = group.allOk(differing.empty());
-        if (!same) {
-            if (lead)
-                throw UsageError("rank" + std::string(differing.size() > 1 ? "s " : " ") + which +
-                                 " started with other arguments or another scene file than rank 0");
-            return kExitUsage;
-        }
-    }
 
-    PathTracerOptions ptOptions;
-    ptOptions.maxDepth = a.maxDepth;
-    ptOptions.nextEventEstimation = a.nee;
-    ptOptions.connect = a.connect;
-    BdptOptions bdptOptions;
-    bdptOptions.maxDepth = a.maxDepth;
-    bdptOptions.heuristic = a.heuristic;
-    bdptOptions.connect = a.connect;
-    if (!a.allocation.empty()) {
-        BdptAllocation chosen;
-        allocationNamed(a.allocation, a.connect, &chosen);
-        chosen.applyTo(bdptOptions);
-    }
-    // auto's statistics need equi-angular variants that add to the free-flight ones (mis) or
-    // none (density): with --connect equiangular it renders as bdpt, every strategy on.
-    bdptOptions.efficiencyAware = a.integrator == "auto" && !variantOnly(a.connect);
-    std::unique_ptr<Integrator> integratorPtr;
-    if (a.integrator != "pt") integratorPtr = std::make_unique<BdptIntegrator>(bdptOptions);
-    else integratorPtr = std::make_unique<PathTracer>(ptOptions);
+    const IntegratorSettings method = integratorSettings(a);
+    BdptOptions bdptOptions = brume::bdptOptions(method);  // for the strategy images
+    std::unique_ptr<Integrator> integratorPtr = makeIntegrator(method);
     Integrator& integrator = *integratorPtr;
 
     // Checkpoint state: the settings, the film (possibly resumed) and the non-finite samples
@@ -533,45 +587,14 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler));
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
-    // With auto, the strategy images are those of the allocation it chose.
     const AllocationPlanner* planner =
         a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;  // (null: bdpt)
-    if (planner) {
-        planner->chosen().applyTo(bdptOptions);
-        bdptOptions.efficiencyAware = false;
-    }
-    // With light tracing's learned share (bdpt; auto in single scattering, when its duel kept
-    // the allocation that carries it), that share.
     const DirectLightTracing* direct =
         a.integrator != "pt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
-    if (direct && (!planner || planner->pilotAllocationAt(1 << 30))) bdptOptions.directLightTracing = direct->factor();
-    if (!a.strategyDir.empty() && !gInterrupted.load()) writeStrategyImages(scene, bdptOptions, options, a.strategyDir);
+    if (!a.strategyDir.empty() && !gInterrupted.load())
+        writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 
-    double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
-    std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite, peak %.0f MiB\n",
-                a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
-                double(stats.samples) / seconds, double(stats.rays) / seconds,
-                static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
-    if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
-    if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
-    if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
-        std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
-                    "camera side %.4g, light tracing %.4g)\n",
-                    direct->factor(), direct->cameraVariance(), direct->lightVariance());
-    if (group.distributed()) {
-        // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
-        // rendering time over the busiest one's.
-        double lo = 1e300, hi = 0;
-        std::string perRank;
-        for (size_t r = 0; r < shared.ranks.size(); ++r) {
-            const RankReport& rr = shared.ranks[r];
-            lo = std::min(lo, rr.busySeconds);
-            hi = std::max(hi, rr.busySeconds);
-            perRank += (r ? ", " : "") + std::to_string(int(rr.busySeconds > 0 ? rr.samples / rr.busySeconds : 0.0));
-        }
-        std::printf("ranks: %d; samples/s per rank: %s; load balance %.2f (least over most busy); reduction %.3f s\n",
-                    group.size(), perRank.c_str(), hi > 0 ? lo / hi : 1.0, shared.reduceSeconds);
-    }
+    printSummary(a, group, res, film, stats, nonFinite, planner, direct, shared);
     std::fflush(stdout);
     if (gInterrupted.load()) {
         std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));

@@ -1,5 +1,6 @@
 #include "brume/integrators/allocation_planner.h"
 
+#include "brume/integrators/bdpt.h"
 #include "brume/integrators/sample_cost.h"
 #include "brume/integrators/state_bytes.h"
 

@@ -38,15 +38,15 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
     // full transport auto does not: learned in its pilot and applied to the chosen allocation,
     // the factor made the duel keep bidirectional allocations whose tails its eight passes did
     // not show (docs/results.md).
-    const bool learnable = options_.directLightTracing < 0 && options_.onlyS < 0 && !options_.pathTracer;
+    const bool learnable = options_.directLightTracing < 0 && options_.hooks.onlyS < 0 && !options_.allocation.pathTracer;
     if (options_.efficiencyAware) {
         // (Its statistics need the equi-angular variants to add to the free-flight ones.)
         if (variantOnly(options_.connect))
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect, learnable && options_.maxDepth == 1);
-        planner_->allocationFor(0).applyTo(options_);
+        options_.allocation = planner_->allocationFor(0);
     }
-    if (planner_ ? planner_->learnedShare() : learnable && options_.lightSubpaths && options_.lightTracing)
+    if (planner_ ? planner_->learnedShare() : learnable && options_.allocation.lightSubpaths && options_.allocation.lightTracing)
         direct_ = std::make_unique<DirectLightTracing>();
 }
 
@@ -62,7 +62,7 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     const bool ownStrategies = options_.connect == ConnectMode::Mis && scene.hasMedia() && scene.hasTriangleLights() &&
                                scene.emitterSampling() == EmitterSampling::SolidAngle;
     planner_->setPathTracerProbe(scene.mediumChannels() > 1 || ownStrategies);
-    planner_->allocationFor(pass).applyTo(options_);
+    options_.allocation = planner_->allocationFor(pass);
     collecting_ = planner_->collects(pass);
 }
 
@@ -139,7 +139,7 @@ void BdptIntegrator::loadState(const std::string& state) {
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
                                           Sampler& sampler, PathStats& stats, SplatList& splats) const {
-    if (options_.pathTracer) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
+    if (options_.allocation.pathTracer) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
     thread_local Subpaths paths;
     PathVertex* camera = paths.camera.data();
     PathVertex* light = paths.light.data();
@@ -158,7 +158,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // whose statistics rate allocations without that variant, except where it learns light
     // tracing's share, allocation_planner.h.)
     const int passFirstAt = limited && maxScatter >= 1 && options_.connect != ConnectMode::Density &&
-                                    options_.equiAngularLight && (!options_.efficiencyAware || planner_->learnedShare()) &&
+                                    options_.allocation.equiAngularLight && (!options_.efficiencyAware || planner_->learnedShare()) &&
                                     !scene.hasInvisibleBoundaries() &&
                                     !scene.hasDirectionalLights()
                                 ? maxScatter
@@ -180,19 +180,19 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // In single scattering light subpaths serve light tracing alone: made as often as its
     // learned share (lightSubpathsMade), chosen by a number of the image-wide sequence.
     const double lightMade = lightSubpathsMade();
-    const bool traced = options_.lightSubpaths && (lightMade >= 1.0 || lightSampler.get1D(dim::kLightStart + dim::kMade) < lightMade);
+    const bool traced = options_.allocation.lightSubpaths && (lightMade >= 1.0 || lightSampler.get1D(dim::kLightStart + dim::kMade) < lightMade);
     const int nLight = traced ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
     stats.counters[kCameraWalkRays] += rays1 - rays0;
     stats.counters[kLightWalkRays] += stats.rays - rays1;
 
-    const bool weighted = options_.onlyS < 0 || options_.weighted;
+    const bool weighted = options_.hooks.onlyS < 0 || options_.hooks.weighted;
     MisSettings mis{options_.heuristic, options_.connect,       options_.exactEquiAngular,
-                    options_.generalEquiAngular, options_.generalConnection, width, height, channels, hero,
+                    options_.generalEquiAngular, options_.allocation.generalConnection, width, height, channels, hero,
                     passFrom, passFirstAt};
-    mis.generalConnection = options_.lightSubpaths ? options_.generalConnection : 0.0;
-    mis.cameraConnection = options_.lightSubpaths && options_.lightTracing ? lightMade : 0.0;
-    mis.equiAngularLight = options_.equiAngularLight;
-    mis.equiAngularCamera = options_.equiAngularCamera;
+    mis.generalConnection = options_.allocation.lightSubpaths ? options_.allocation.generalConnection : 0.0;
+    mis.cameraConnection = options_.allocation.lightSubpaths && options_.allocation.lightTracing ? lightMade : 0.0;
+    mis.equiAngularLight = options_.allocation.equiAngularLight;
+    mis.equiAngularCamera = options_.allocation.equiAngularCamera;
     if (usesShare_) mis.directLightTracing = direct_->factor();
     else if (options_.directLightTracing >= 0) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {
@@ -225,7 +225,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
             if (s == 0 && t < 2) continue;
             if (t == 1 ? mis.cameraConnection == 0 : s >= 2 && mis.generalConnection == 0) continue;
             if (options_.maxDepth >= 0 && s + t - 2 > options_.maxDepth) continue;
-            if (options_.onlyS >= 0 && (s != options_.onlyS || t != options_.onlyT)) continue;
+            if (options_.hooks.onlyS >= 0 && (s != options_.hooks.onlyS || t != options_.hooks.onlyT)) continue;
             // Past the camera walk's end only an equi-angular variant has a vertex: the light
             // connection's, and general connections' when they have variants.
             if (t > nCamera && s != 1 && !options_.generalEquiAngular) continue;

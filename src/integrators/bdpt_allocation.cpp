@@ -13,15 +13,6 @@ std::string BdptAllocation::name() const {
     return std::string("bdpt") + (lightTracing ? " lt" : "") + " p=" + p + (ea.empty() ? "" : " ea=" + ea);
 }
 
-void BdptAllocation::applyTo(BdptOptions& o) const {
-    o.lightSubpaths = lightSubpaths;
-    o.lightTracing = lightTracing;
-    o.generalConnection = generalConnection;
-    o.equiAngularLight = equiAngularLight;
-    o.equiAngularCamera = equiAngularCamera;
-    o.pathTracer = pathTracer;
-}
-
 bool BdptAllocation::operator==(const BdptAllocation& o) const {
     return lightSubpaths == o.lightSubpaths && lightTracing == o.lightTracing && generalConnection == o.generalConnection &&
            equiAngularLight == o.equiAngularLight && equiAngularCamera == o.equiAngularCamera && pathTracer == o.pathTracer;

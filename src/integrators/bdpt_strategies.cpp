@@ -124,7 +124,7 @@ bool freeFlightVariantOn(ConnectMode mode, bool real, const PathVertex& v, bool 
 
 // Variant 0 (free flight) or 1 (equi-angular), as BdptOptions::onlyVariant allows.
 bool variantWanted(const StrategyContext& c, int variant, bool on) {
-    return on && (c.options.onlyVariant < 0 || c.options.onlyVariant == variant);
+    return on && (c.options.hooks.onlyVariant < 0 || c.options.hooks.onlyVariant == variant);
 }
 
 // The equi-angular variant of path[i] (a camera or light subpath): the vertex placed on the
@@ -177,7 +177,7 @@ void record(const StrategyContext& c, const PathVertex* lightVertex, int s, int 
 float weigh(const StrategyContext& c, PathVertex* light, int s, int t, const StrategyJoin& join) {
     if (!c.weighted) return 1.0f;
     float w = float(strategyWeight(c.scene, light, s, c.camera, t, join, c.mis));
-    if (c.options.observer) c.options.observer->onWeight(light, s, c.camera, t, w, join.equiAngular, c.mis.hero);
+    if (c.options.hooks.observer) c.options.hooks.observer->onWeight(light, s, c.camera, t, w, join.equiAngular, c.mis.hero);
     return w;
 }
 

@@ -7,8 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "brume/integrators/bdpt.h"
-#include "brume/integrators/path_tracer.h"
+#include "brume/integrators/integrator_settings.h"
 
 namespace brume::test {
 
@@ -26,11 +25,11 @@ struct Method {
         return std::string(bdpt ? "bdpt:" : "pt:") + mode;
     }
     std::unique_ptr<Integrator> make(int maxDepth) const {
-        if (!bdpt) return std::make_unique<PathTracer>(PathTracerOptions{maxDepth, true, connect});
-        BdptOptions o{maxDepth, MisHeuristic::Power};
-        o.connect = connect;
-        o.efficiencyAware = automatic;
-        return std::make_unique<BdptIntegrator>(o);
+        IntegratorSettings s;
+        s.kind = automatic ? IntegratorKind::EfficiencyAware : bdpt ? IntegratorKind::Bidirectional : IntegratorKind::PathTracer;
+        s.connect = connect;
+        s.maxDepth = maxDepth;
+        return makeIntegrator(s);
     }
 };
 

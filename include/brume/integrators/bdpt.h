@@ -5,6 +5,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
 
@@ -23,17 +24,24 @@ public:
                           bool equiAngular, int hero) const = 0;
 };
 
-struct BdptOptions {
-    int maxDepth = -1;  // most scattering events on a full path; −1 = unlimited
-    MisHeuristic heuristic = MisHeuristic::Power;
-    // Debugging and tests: only the strategy (s, t) contributes (s = −1: all), unweighted
-    // unless `weighted`. Random numbers are drawn the same way whichever strategy is kept, so
-    // the weighted images of all strategies add up to the full image for the same seed.
+// Debugging, strategy images and tests: which strategy a render keeps, and who hears of
+// every weight.
+struct BdptHooks {
+    // Only the strategy (s, t) contributes (s = −1: all), unweighted unless `weighted`. Random
+    // numbers are drawn the same way whichever strategy is kept, so the weighted images of all
+    // strategies add up to the full image for the same seed.
     int onlyS = -1, onlyT = -1;
     bool weighted = false;
     // With onlyS: 0 keeps only the free-flight variant of the strategy, 1 only its
     // equi-angular variant (a connection vertex placed towards the other subpath), −1 both.
     int onlyVariant = -1;
+    const BdptObserver* observer = nullptr;
+};
+
+struct BdptOptions {
+    // The user's settings.
+    int maxDepth = -1;  // most scattering events on a full path; −1 = unlimited
+    MisHeuristic heuristic = MisHeuristic::Power;
     // Light connections at medium vertices: Density = plain BDPT; EquiAngular = the camera
     // vertex z(t−1) is sampled equi-angularly towards y(s−1) instead of by free flight;
     // Mis = both variants, MIS-weighted (docs/mis.md).
@@ -46,23 +54,7 @@ struct BdptOptions {
     // usually a mean free path from the ray, where the equi-angular density is nearly flat:
     // per unit time they lose (docs/results.md), so they are off unless asked for.
     bool generalEquiAngular = false;
-    // Probability with which each general connection (s, t ≥ 2) is made (probabilistic
-    // connections: a made one counts 1/p, and the weights see every general strategy's
-    // density times p). 1: every pair of subpath vertices is joined. 1/4 was more efficient
-    // than 1 on 12 of the 14 bench scenes, for --connect density and mis (docs/results.md).
-    float generalConnection = 0.25f;
-    // The rest of the allocation (bdpt_allocation.h), all on by default. lightSubpaths: one
-    // light subpath per sample, or none (then no camera or general connection is made: a path
-    // tracer with the s = 0 and s = 1 strategies). lightTracing: camera connections (t = 1).
-    // equiAngularLight/Camera: the equi-angular variants of light (s = 1) and camera (t = 1)
-    // connections (with --connect mis|equiangular). The weights count each strategy as often
-    // as it is made, so every allocation is unbiased wherever its strategies cover the paths.
-    bool lightSubpaths = true, lightTracing = true;
-    bool equiAngularLight = true, equiAngularCamera = true;
-    // Every sample rendered by the volumetric path tracer (path_tracer.h, this maxDepth and
-    // connect mode) instead: the allocation "path tracer" (bdpt_allocation.h).
-    bool pathTracer = false;
-    // The efficiency-aware tracer (`--integrator auto`): the allocation above is replaced pass
+    // The efficiency-aware tracer (`--integrator auto`): the allocation below is replaced pass
     // by pass by the planner's (allocation_planner.h): the pilot's, then the chosen one.
     // (Without the camera walk's pass-through at the last scattering event --max-depth allows,
     // which only equi-angular light connections cover and which a candidate may turn off.)
@@ -72,7 +64,12 @@ struct BdptOptions {
     // tracing, all strategies); otherwise this factor (e.g. the learned one, for the strategy
     // images of a render).
     double directLightTracing = -1.0;
-    const BdptObserver* observer = nullptr;
+
+    // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general
+    // connections with probability 1/4, by default.
+    BdptAllocation allocation;
+
+    BdptHooks hooks;
 };
 
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted

@@ -7,16 +7,26 @@
 #include <string>
 #include <vector>
 
-#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_tracer.h"
 
 namespace brume {
 
+// The weights count each strategy as often as it is made, so every allocation is unbiased
+// wherever its strategies cover the paths.
 struct BdptAllocation {
-    bool lightSubpaths = true;        // one light subpath per sample, or none (path tracing)
-    bool lightTracing = true;         // camera connections t = 1 (needs light subpaths)
-    float generalConnection = 0.25f;  // probability of each general connection (s, t ≥ 2)
-    bool equiAngularLight = true;     // equi-angular variants of light connections (s = 1)
-    bool equiAngularCamera = true;    // equi-angular variants of camera connections (t = 1)
+    // One light subpath per sample, or none (then no camera or general connection is made: a
+    // path tracer with the s = 0 and s = 1 strategies).
+    bool lightSubpaths = true;
+    bool lightTracing = true;  // camera connections t = 1 (needs light subpaths)
+    // Probability with which each general connection (s, t ≥ 2) is made (probabilistic
+    // connections: a made one counts 1/p, and the weights see every general strategy's
+    // density times p). 1: every pair of subpath vertices is joined. 1/4 was more efficient
+    // than 1 on 12 of the 14 bench scenes, for --connect density and mis (docs/results.md).
+    float generalConnection = 0.25f;
+    // The equi-angular variants of light (s = 1) and camera (t = 1) connections (with
+    // --connect mis|equiangular).
+    bool equiAngularLight = true;
+    bool equiAngularCamera = true;
     // The volumetric path tracer itself (`pt`, with --connect mis or density) instead of the
     // bidirectional tracer without light subpaths: the same strategies, at less cost per
     // sample. To the statistics it is "pt+ea" (or "pt"); to the cost model, that times
@@ -26,7 +36,6 @@ struct BdptAllocation {
     // Short and stable, e.g. "pt+ea" or "bdpt lt p=0.25 ea=LC"; used in reports and by
     // --allocation.
     std::string name() const;
-    void applyTo(BdptOptions& options) const;
     bool operator==(const BdptAllocation& o) const;
 };
 

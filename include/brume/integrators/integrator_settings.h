@@ -1,0 +1,42 @@
+// What a user chooses of an integrator: `brume render`'s and `brume bench`'s flags and the
+// tests' methods. Every place that builds an integrator starts from these (makeIntegrator),
+// so a flag means the same everywhere.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_tracer.h"
+
+namespace brume {
+
+enum class IntegratorKind {
+    PathTracer,       // `pt`
+    Bidirectional,    // `bdpt`
+    EfficiencyAware,  // `auto` (the default): the bidirectional tracer choosing its allocation
+};
+
+struct IntegratorSettings {
+    IntegratorKind kind = IntegratorKind::EfficiencyAware;
+    ConnectMode connect = ConnectMode::Mis;
+    int maxDepth = -1;  // most scattering events on a path; −1 = unlimited
+    // The path tracer: false renders by phase and BSDF sampling alone (tests).
+    bool nextEventEstimation = true;
+    // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
+    // (every one by default; `--allocation NAME` picks one of auto's candidates), and two
+    // variants kept for measurement (BdptOptions).
+    MisHeuristic heuristic = MisHeuristic::Power;
+    BdptAllocation allocation;
+    bool exactEquiAngular = false, generalEquiAngular = false;
+};
+
+// "pt", "bdpt" or "auto"; false for anything else.
+bool integratorKindNamed(const std::string& name, IntegratorKind* out);
+
+PathTracerOptions pathTracerOptions(const IntegratorSettings& s);
+// auto needs equi-angular variants that add to the free-flight ones (mis) or none (density):
+// with --connect equiangular or product it renders as bdpt, every strategy on.
+BdptOptions bdptOptions(const IntegratorSettings& s);
+std::unique_ptr<Integrator> makeIntegrator(const IntegratorSettings& s);
+
+}  // namespace brume

@@ -511,6 +511,84 @@ void writeChart(const std::string& dir) {
 
 }  // namespace
 
+// Whether an interrupt came (said once, on stderr).
+bool benchInterrupted() {
+    if (!gBenchInterrupted.load()) return false;
+    std::fputs("brume: interrupted; no results.csv written\n", stderr);
+    return true;
+}
+
+// The reference a bench compares with, unless one is given: reference.exr in the output
+// directory if reference.json says it was rendered for this scene, resolution, depth and build,
+// else rendered (and cached) now. False if interrupted.
+bool cachedOrRenderedReference(const BenchArgs& a, Scene& scene, Resolution res, const std::string& referencePath,
+                               const std::string& recordPath, std::vector<float>& reference) {
+    Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name, a.maxDepth);
+    bool haveRecord = false;
+    std::string cachedText = readTextFile(recordPath, &haveRecord);
+    std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";
+    if (why.empty()) {
+        try {
+            reference = readReferenceFile(referencePath, res);
+        } catch (const std::runtime_error&) {
+            why = "cached reference.exr unreadable";
+        }
+    }
+    char what[128];
+    std::snprintf(what, sizeof what, "%s, %d spp, seed %llu", a.referenceMethod->name, a.referenceSpp,
+                  static_cast<unsigned long long>(kReferenceSeed));
+    if (why.empty()) {
+        std::printf("reference: reused %s (%s)\n", referencePath.c_str(), what);
+    } else {
+        std::printf("reference: rendering %s (%s; %s) ...\n", referencePath.c_str(), what, why.c_str());
+        std::fflush(stdout);
+        std::error_code ec;
+        fs::remove(recordPath, ec);  // never a record beside an image it does not describe
+        std::unique_ptr<Integrator> integrator = makeMethod(*a.referenceMethod, a.maxDepth);
+        RenderOptions options;
+        options.width = res.width;
+        options.height = res.height;
+        options.spp = a.referenceSpp;
+        options.seed = kReferenceSeed;
+        options.threads = a.threads;
+        options.progress = ::isatty(2) != 0;
+        scene.setEmitterSampling(EmitterSampling::SolidAngle);
+        Film film(res.width, res.height);
+        RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
+        if (benchInterrupted()) return false;
+        reference = finalImage(film, *integrator, options.sampler);
+        writeImage(referencePath, res.width, res.height, reference);
+        writeTextFile(recordPath, recordText(wanted));
+        std::printf("reference: rendered in %.2f s, cached in %s\n", stats.seconds, recordPath.c_str());
+    }
+    return true;
+}
+
+// results.csv, and the table of efficiencies relative to the first method, per budget.
+void writeResults(const std::string& csvPath, const std::string& sceneLabel, const std::vector<Row>& rows,
+                  const std::vector<BenchChoice>& methods, const std::vector<double>& budgets, int mw) {
+    std::string csv = "scene,method,budget_s,seconds,spp,rel_mse,rmse,efficiency\n";
+    for (const Row& r : rows)
+        csv += csvField(sceneLabel) + "," + r.method->name + "," + format("%g", r.budget) + "," +
+               format("%.6f", r.seconds) + "," + std::to_string(r.spp) + "," + format("%.6e", r.error.relMse) + "," +
+               format("%.6e", r.error.rmse) + "," + format("%.6g", r.efficiency) + "\n";
+    writeTextFile(csvPath, csv);
+
+    // Efficiency relative to the first method, per budget.
+    std::printf("\nefficiency relative to %s (higher is better):\n", methods.front().name.c_str());
+    std::printf("%8s", "budget_s");
+    for (const BenchChoice& m : methods) std::printf("  %*s", std::max(mw, 8), m.name.c_str());
+    std::printf("\n");
+    for (size_t b = 0; b < budgets.size(); ++b) {
+        std::printf("%8s", format("%g", budgets[b]).c_str());
+        const size_t n = methods.size();
+        double base = rows[b * n].efficiency;
+        for (size_t i = 0; i < n; ++i)
+            std::printf("  %*s", std::max(mw, 8), format("%.3f", rows[b * n + i].efficiency / base).c_str());
+        std::printf("\n");
+    }
+}
+
 int runBench(const std::vector<std::string>& argv) {
     BenchArgs a;
     if (!parseBenchArgs(argv, a)) return kExitOk;
@@ -541,55 +619,10 @@ int runBench(const std::vector<std::string>& argv) {
     std::fflush(stdout);
 
     catchBenchInterrupt();
-    auto interrupted = [] {
-        if (!gBenchInterrupted.load()) return false;
-        std::fputs("brume: interrupted; no results.csv written\n", stderr);
-        return true;
-    };
 
     // The reference.
-    if (!a.reference.empty()) {
-        std::printf("reference: %s (given)\n", a.reference.c_str());
-    } else {
-        Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name, a.maxDepth);
-        bool haveRecord = false;
-        std::string cachedText = readTextFile(recordPath, &haveRecord);
-        std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";
-        if (why.empty()) {
-            try {
-                reference = readReferenceFile(referencePath, res);
-            } catch (const std::runtime_error&) {
-                why = "cached reference.exr unreadable";
-            }
-        }
-        char what[128];
-        std::snprintf(what, sizeof what, "%s, %d spp, seed %llu", a.referenceMethod->name, a.referenceSpp,
-                      static_cast<unsigned long long>(kReferenceSeed));
-        if (why.empty()) {
-            std::printf("reference: reused %s (%s)\n", referencePath.c_str(), what);
-        } else {
-            std::printf("reference: rendering %s (%s; %s) ...\n", referencePath.c_str(), what, why.c_str());
-            std::fflush(stdout);
-            std::error_code ec;
-            fs::remove(recordPath, ec);  // never a record beside an image it does not describe
-            std::unique_ptr<Integrator> integrator = makeMethod(*a.referenceMethod, a.maxDepth);
-            RenderOptions options;
-            options.width = res.width;
-            options.height = res.height;
-            options.spp = a.referenceSpp;
-            options.seed = kReferenceSeed;
-            options.threads = a.threads;
-            options.progress = ::isatty(2) != 0;
-            scene.setEmitterSampling(EmitterSampling::SolidAngle);
-            Film film(res.width, res.height);
-            RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
-            if (interrupted()) return kExitInterrupted;
-            reference = finalImage(film, *integrator, options.sampler);
-            writeImage(referencePath, res.width, res.height, reference);
-            writeTextFile(recordPath, recordText(wanted));
-            std::printf("reference: rendered in %.2f s, cached in %s\n", stats.seconds, recordPath.c_str());
-        }
-    }
+    if (!a.reference.empty()) std::printf("reference: %s (given)\n", a.reference.c_str());
+    else if (!cachedOrRenderedReference(a, scene, res, referencePath, recordPath, reference)) return kExitInterrupted;
     std::printf("error: rel_mse = mean over pixels and channels of (x - r)^2 / (r^2 + 0.01); "
                 "rmse = sqrt(mean (x - r)^2); efficiency = 1 / (rel_mse * seconds)\n\n");
 
@@ -621,7 +654,7 @@ int runBench(const std::vector<std::string>& argv) {
             const double cpuBefore = processCpuSeconds();
             RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
             const double cpu = processCpuSeconds() - cpuBefore;
-            if (interrupted()) return kExitInterrupted;
+            if (benchInterrupted()) return kExitInterrupted;
             // Equal-time comparisons assume the threads had the machine to themselves.
             // (More threads than cores or than 16x16 tiles cannot all be busy.)
             const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -653,26 +686,7 @@ int runBench(const std::vector<std::string>& argv) {
         }
     }
 
-    std::string csv = "scene,method,budget_s,seconds,spp,rel_mse,rmse,efficiency\n";
-    for (const Row& r : rows)
-        csv += csvField(sceneLabel) + "," + r.method->name + "," + format("%g", r.budget) + "," +
-               format("%.6f", r.seconds) + "," + std::to_string(r.spp) + "," + format("%.6e", r.error.relMse) + "," +
-               format("%.6e", r.error.rmse) + "," + format("%.6g", r.efficiency) + "\n";
-    writeTextFile(csvPath, csv);
-
-    // Efficiency relative to the first method, per budget.
-    std::printf("\nefficiency relative to %s (higher is better):\n", a.methods.front().name.c_str());
-    std::printf("%8s", "budget_s");
-    for (const BenchChoice& m : a.methods) std::printf("  %*s", std::max(mw, 8), m.name.c_str());
-    std::printf("\n");
-    for (size_t b = 0; b < a.budgets.size(); ++b) {
-        std::printf("%8s", format("%g", a.budgets[b]).c_str());
-        const size_t n = a.methods.size();
-        double base = rows[b * n].efficiency;
-        for (size_t i = 0; i < n; ++i)
-            std::printf("  %*s", std::max(mw, 8), format("%.3f", rows[b * n + i].efficiency / base).c_str());
-        std::printf("\n");
-    }
+    writeResults(csvPath, sceneLabel, rows, a.methods, a.budgets, mw);
     std::printf("\nwrote %s", csvPath.c_str());
     for (const std::string& p : imagesWritten) std::printf(", %s", p.c_str());
     std::printf("\n");

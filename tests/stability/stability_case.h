@@ -17,15 +17,21 @@
 //    channels of grey scenes are not). Measured with the known bugs patched out, over four seed sets, the
 //    methods not listed as weak stayed below 4.2 but for one value of 6.4 (now listed).
 //    Seeds are fixed, so a pass is reproducible.
+//  - the median of means (stability_compare.h) within kMedianOfMeansBound of the reference's:
+//    the rows that are not weak stayed within 0.09 over three seed sets (but in g_backward,
+//    whose image mean no method resolves at this budget: 0.31, and the case says so), so the
+//    bound is 0.2, and an image 20 % off fails it whatever its tail;
 //  - or, for a method the case lists as weak (its estimates are so heavy-tailed that the
 //    per-block z means nothing at this budget: it is measured anyway and printed), bounds on
 //    its relative RMSE and outlier fraction (the largest value measured over four seed sets,
-//    times two, and at least 0.001 for the outliers), and, where the image mean stayed
-//    Gaussian enough (|z| < 4 over those seed sets), |z| of the image mean below kZ.
+//    times two, and at least 0.001 for the outliers), its median of means (the largest over
+//    three seed sets, times two, where that is above kMedianOfMeansBound), and, where the image
+//    mean stayed Gaussian enough (|z| < 4 over those seed sets), |z| of the image mean below kZ.
 #pragma once
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +47,7 @@ namespace brume::test {
 
 constexpr double kZ = 5.0;
 constexpr double kCostRatio = 10.0;
+constexpr double kMedianOfMeansBound = 0.2;
 constexpr int kWidth = 16, kHeight = 12, kBlock = 4;
 
 struct Weakness {
@@ -48,6 +55,7 @@ struct Weakness {
     double maxRelRmse;   // bound on the relative RMSE
     double maxOutliers;  // bound on the fraction of values above 10 × the reference
     bool checkMeanZ;     // whether |z| of the image mean is still checked
+    double maxMedianOfMeans;  // bound on |relMedianOfMeans|
 };
 
 struct StabilityCase {
@@ -56,6 +64,7 @@ struct StabilityCase {
     int maxDepth = -1;
     int sppPt = 64, sppBdpt = 8;  // per batch
     int batches = 32;
+    double medianOfMeansBound = kMedianOfMeansBound;  // for the methods not listed as weak
     Method reference = kPtMis;
     std::vector<Weakness> weak;
 
@@ -63,10 +72,14 @@ struct StabilityCase {
     StabilityCase& referenceMethod(Method m) { reference = m; return *this; }
     StabilityCase& sameMethodOn(std::string twin) { twinFile = std::move(twin); return *this; }
     StabilityCase& samples(int pt, int bdpt) { sppPt = pt, sppBdpt = bdpt; return *this; }
-    StabilityCase& weakMethod(Method m, double maxRelRmse, double maxOutliers, bool checkMeanZ) {
-        weak.push_back({m, maxRelRmse, maxOutliers, checkMeanZ});
+    StabilityCase& weakMethod(Method m, double maxRelRmse, double maxOutliers, bool checkMeanZ,
+                              double maxMedianOfMeans = kMedianOfMeansBound) {
+        weak.push_back({m, maxRelRmse, maxOutliers, checkMeanZ, maxMedianOfMeans});
         return *this;
     }
+    // A case whose image mean no method resolves at the suite's budget: a looser bound on the
+    // median of means, stated where the case is.
+    StabilityCase& meanResolvedTo(double bound) { medianOfMeansBound = bound; return *this; }
     int spp(const Method& m) const { return m.bdpt ? sppBdpt : sppPt; }
 };
 
@@ -126,10 +139,11 @@ inline bool costWithinTwin(const StabilityCase& sc, const Scene& scene, const Sc
     return ok;
 }
 
-inline void checkComparison(const std::string& what, const Comparison& c, const Weakness* weak) {
+inline void checkComparison(const std::string& what, const Comparison& c, const Weakness* weak, double medianOfMeansBound) {
     INFO(what << ": worst " << c.worst << " (max |z| " << c.maxZ << "); image mean z " << c.zMean << ", bias "
               << c.relBias << " (resolution " << c.relSeMean << "), relative RMSE " << c.relRmse << ", outliers "
               << c.outliers);
+    CHECK(std::abs(c.relMedianOfMeans) < (weak ? weak->maxMedianOfMeans : medianOfMeansBound));
     if (weak) {
         CHECK(c.relRmse < weak->maxRelRmse);
         CHECK(c.outliers < weak->maxOutliers);
@@ -140,8 +154,16 @@ inline void checkComparison(const std::string& what, const Comparison& c, const 
     }
 }
 
+// The seed set: 0 in the tests; BRUME_STABILITY_SEED_BASE=k (k = 100, 200, …) gives others, to
+// measure the spread of the numbers the bounds are set from.
+inline uint64_t stabilitySeedBase() {
+    const char* s = std::getenv("BRUME_STABILITY_SEED_BASE");
+    return s ? std::strtoull(s, nullptr, 10) : 0;
+}
+
 // seedBase: 0 in the tests; other values give independent seed sets (to measure the spread).
 inline void runStabilityCase(const StabilityCase& sc, uint64_t seedBase = 0) {
+    seedBase += stabilitySeedBase();
     auto scene = loadStabilityScene(sc.file);
     auto twin = sc.twinFile.empty() ? nullptr : loadStabilityScene(sc.twinFile);
     const std::vector<bool> mask = pointLikeLightBlocks(*scene);
@@ -155,6 +177,8 @@ inline void runStabilityCase(const StabilityCase& sc, uint64_t seedBase = 0) {
         requireFinite(sc.name + " reference " + sc.reference.name(), shared);
     }
     uint64_t seed = seedBase + 2;
+    StabilityRun referenceRun;  // the reference method's own run, checked after the others
+    std::vector<std::pair<Method, StabilityRun>> others;
     for (const Method& method : allMethods()) {
         const std::string what = sc.name + " " + method.name();
         const Weakness* weak = findWeakness(sc, method);
@@ -167,11 +191,27 @@ inline void runStabilityCase(const StabilityCase& sc, uint64_t seedBase = 0) {
             requireFinite(what + " on " + sc.twinFile, own);
         }
         StabilityRun run = renderBatches(*scene, *integrator, kWidth, kHeight, sc.spp(method), sc.batches, seed, kBlock);
+        requireFinite(what, run);
+        if (!twin && method.name() == sc.reference.name()) {
+            referenceRun = std::move(run);
+            continue;
+        }
         Comparison c = compareRuns(run, twin ? own : shared, mask);
         printRow(sc.name, method.name() + (twin ? " vs itself on " + sc.twinFile : "") + (weak ? " (weak)" : ""), run, &c);
-        requireFinite(what, run);
-        checkComparison(what, c, weak);
+        checkComparison(what, c, weak, sc.medianOfMeansBound);
+        if (!weak) others.emplace_back(method, std::move(run));
     }
+    if (twin) return;
+    // The reference method is not its own reference: its run at the methods' samples is held
+    // against the first method that is not weak here, of the other integrator if one is.
+    const std::pair<Method, StabilityRun>* judge = nullptr;
+    for (const auto& o : others)
+        if (!judge || (judge->first.bdpt == sc.reference.bdpt && o.first.bdpt != sc.reference.bdpt)) judge = &o;
+    INFO(sc.name << ": no method other than the reference is reliable here, to check the reference against");
+    REQUIRE(judge);
+    Comparison c = compareRuns(referenceRun, judge->second, mask);
+    printRow(sc.name, sc.reference.name() + " vs " + judge->first.name(), referenceRun, &c);
+    checkComparison(sc.name + " " + sc.reference.name() + " against " + judge->first.name(), c, nullptr, sc.medianOfMeansBound);
 }
 
 }  // namespace brume::test

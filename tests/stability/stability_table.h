@@ -12,8 +12,8 @@ inline void printHeader() {
     static bool done = false;
     if (done) return;
     done = true;
-    std::printf("| case | method | spp | max abs z | z mean | bias | rel. RMSE | >10x ref | dropped | s |\n");
-    std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+    std::printf("| case | method | spp | max abs z | z mean | bias | median of means | rel. RMSE | >10x ref | dropped | s |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 // c == nullptr: the reference's own row.
@@ -22,16 +22,17 @@ inline void printRow(const std::string& caseName, const std::string& method, con
     printHeader();
     std::printf("| %s | %s | %d | ", caseName.c_str(), method.c_str(), run.sppPerBatch * run.batches);
     if (c)
-        std::printf("%.2f | %+.2f | %+.4f | %.4f | %.4f | ", c->maxZ, c->zMean, c->relBias, c->relRmse, c->outliers);
+        std::printf("%.2f | %+.2f | %+.4f | %+.4f | %.4f | %.4f | ", c->maxZ, c->zMean, c->relBias, c->relMedianOfMeans,
+                    c->relRmse, c->outliers);
     else
-        std::printf("- | - | - | - | - | ");
+        std::printf("- | - | - | - | - | - | ");
     std::printf("%llu | %.1f |\n", (unsigned long long)run.nonFinite, run.seconds);
     std::fflush(stdout);
 }
 
 inline void printCost(const std::string& caseName, const std::string& method, double ratio) {
     printHeader();
-    std::printf("| %s | %s | cost per sample %.1fx the twin's | | | | | | | |\n", caseName.c_str(), method.c_str(), ratio);
+    std::printf("| %s | %s | cost per sample %.1fx the twin's | | | | | | | | |\n", caseName.c_str(), method.c_str(), ratio);
     std::fflush(stdout);
 }
 

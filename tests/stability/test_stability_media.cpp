@@ -40,19 +40,22 @@ TEST_CASE("stability: g = +0.999", "[stability]") {
     // the path tracer's 2×2 blocks stay up to 22% below bdpt at 262144 spp (z down to −14).
     runStabilityCase(StabilityCase("g_forward", "g_forward.gltf")
                          .referenceMethod(kBdptDensity)
-                         .weakMethod(kPtDensity, 30.0, 0.005, true)
-                         .weakMethod(kPtEquiAngular, 2.1, 0.0015, false)
+                         .weakMethod(kPtDensity, 30.0, 0.005, true, 0.55)
+                         .weakMethod(kPtEquiAngular, 2.1, 0.0015, false, 0.58)
                          // Product sampling follows the forward peak (image bias −6 % where plain
                          // equi-angular has −49 %), but its blocks still miss the two-event paths.
-                         .weakMethod(kPtProduct, 1.9, 0.0065, true)
-                         .weakMethod(kPtMis, 1.9, 0.0065, true));
+                         .weakMethod(kPtProduct, 1.9, 0.0065, true, 0.51)
+                         .weakMethod(kPtMis, 1.9, 0.0065, true, 0.45));
 }
 
 TEST_CASE("stability: g = -0.999", "[stability]") {
     // Equi-angular connections aim at the light, which is behind the camera: once in four seed
-    // sets bdpt:equiangular reached z = 6.4.
-    runStabilityCase(
-        StabilityCase("g_backward", "g_backward.gltf").weakMethod(kBdptEquiAngular, 0.74, 0.02, true));
+    // sets bdpt:equiangular reached z = 6.4. At this budget no method resolves the image mean
+    // (the median of means of methods not listed as weak strayed up to 0.31 over three seed
+    // sets): bound 0.65.
+    runStabilityCase(StabilityCase("g_backward", "g_backward.gltf")
+                         .meanResolvedTo(0.65)
+                         .weakMethod(kBdptEquiAngular, 0.74, 0.02, true, 0.87));
 }
 
 TEST_CASE("stability: blue haze (coloured fog, a street lamp and a sun)", "[stability][chromatic]") {

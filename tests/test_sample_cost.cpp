@@ -33,14 +33,13 @@ TEST_CASE("the path tracer counts every ray in one part of its sample, and its s
             PathTracer pt(PathTracerOptions{depth, true, mode});
             const RenderStats s = renderWith(*scene, pt);
             INFO("connect mode " << int(mode) << ", max depth " << depth);
-            CHECK(s.counters[kPtSamples] == s.samples);
-            CHECK(s.counters[kPtWalkRays] + s.counters[kPtVertexRays] + s.counters[kPtSegmentRays] +
-                      s.counters[kPtSolidAngleRays] ==
-                  s.rays);
-            CHECK(s.counters[kPtWalkRays] >= s.samples);  // the camera ray at least
-            CHECK((s.counters[kPtSegmentCalls] > 0) == (mode != ConnectMode::Density));
-            CHECK((s.counters[kPtSolidAngleCalls] > 0) == (mode == ConnectMode::Mis));
-            CHECK(s.counters[kPtVertexCalls] > 0);
+            const PathTracerCounts& n = s.counts.pt;
+            CHECK(n.samples == s.samples);
+            CHECK(n.walkRays + n.vertexRays + n.segmentRays + n.solidAngleRays == s.rays);
+            CHECK(n.walkRays >= s.samples);  // the camera ray at least
+            CHECK((n.segmentCalls > 0) == (mode != ConnectMode::Density));
+            CHECK((n.solidAngleCalls > 0) == (mode == ConnectMode::Mis));
+            CHECK(n.vertexCalls > 0);
         }
 }
 
@@ -51,13 +50,15 @@ TEST_CASE("the bidirectional tracer counts every ray in one part of its sample",
         o.directLightTracing = 1.0;
         BdptIntegrator bdpt(o);
         const RenderStats s = renderWith(*scene, bdpt);
-        uint64_t parts = s.counters[kCameraWalkRays] + s.counters[kLightWalkRays];
-        // (Emitter hits trace no ray of their own: their slots are the walks'.)
+        const BidirectionalCounts& n = s.counts.bdpt;
+        uint64_t parts = n.cameraWalkRays + n.lightWalkRays;
+        // (Emitter hits trace no ray of their own.)
+        CHECK(n.rays(StrategyKind::EmitterHit, false) + n.rays(StrategyKind::EmitterHit, true) == 0);
         for (StrategyKind k : {StrategyKind::LightConnection, StrategyKind::CameraConnection, StrategyKind::SubpathConnection})
-            for (bool ea : {false, true}) parts += s.counters[rayCounter(k, ea)];
+            for (bool ea : {false, true}) parts += n.rays(k, ea);
         INFO("max depth " << depth);
         CHECK(parts == s.rays);
-        CHECK(bidirectionalCost(s.counters, double(s.samples)) > bdpt_cost::kSample * double(s.samples));
+        CHECK(bidirectionalCost(n, double(s.samples)) > bdpt_cost::kSample * double(s.samples));
     }
 }
 
@@ -69,10 +70,29 @@ TEST_CASE("a path tracer's cost grows with the parts it makes", "[cost]") {
     PathTracer density(PathTracerOptions{1, true, ConnectMode::Density});
     PathTracer mis(PathTracerOptions{1, true, ConnectMode::Mis});
     const RenderStats d = renderWith(*scene, density), m = renderWith(*scene, mis);
-    const double perD = pathTracerCost(d.counters) / double(d.samples), perM = pathTracerCost(m.counters) / double(m.samples);
+    const double perD = pathTracerCost(d.counts.pt) / double(d.samples), perM = pathTracerCost(m.counts.pt) / double(m.samples);
     CHECK(perM > 1.5 * perD);
     CHECK(perD >= pt_cost::kSample + pt_cost::kWalk);
-    uint64_t none[PathStats::kCounters] = {};
-    CHECK(pathTracerCost(none) == 0.0);
-    CHECK(bidirectionalCost(none, 0.0) == 0.0);
+    const PathCounts none;
+    CHECK(pathTracerCost(none.pt) == 0.0);
+    CHECK(bidirectionalCost(none.bdpt, 0.0) == 0.0);
+}
+
+TEST_CASE("pass counts add field by field and visit every field once, in a fixed order", "[cost]") {
+    PathCounts a, b;
+    uint64_t next = 1;
+    a.forEach([&](uint64_t& v) { v = next++; });
+    b.forEach([&](uint64_t& v) { v = 1000 * next++; });
+    CHECK(int(next - 1) == 2 * PathCounts::kCount);
+    PathCounts sum = a;
+    sum.add(b);
+    CHECK(sum.pt.samples == a.pt.samples + b.pt.samples);
+    CHECK(sum.bdpt.rays(StrategyKind::SubpathConnection, true) ==
+          a.bdpt.rays(StrategyKind::SubpathConnection, true) + b.bdpt.rays(StrategyKind::SubpathConnection, true));
+    CHECK(sum.bdpt.contribution(StrategyKind::CameraConnection, false) ==
+          a.bdpt.contribution(StrategyKind::CameraConnection, false) + b.bdpt.contribution(StrategyKind::CameraConnection, false));
+    // Distinct fields: the values set first are 1 … kCount, each once.
+    uint64_t seen = 0;
+    a.forEach([&](uint64_t& v) { seen += v; });
+    CHECK(seen == uint64_t(PathCounts::kCount) * (PathCounts::kCount + 1) / 2);
 }

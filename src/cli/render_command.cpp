@@ -36,22 +36,24 @@ namespace {
 // --stats: what a sample did, per part (the counters the duel's costs are counted from).
 std::string workPerSample(const std::string& integrator, const RenderStats& st) {
     const double n = double(std::max<uint64_t>(st.samples, 1));
-    auto per = [&](int k) { return double(st.counters[k]) / n; };
+    auto per = [&](uint64_t count) { return double(count) / n; };
+    const PathTracerCounts& pt = st.counts.pt;
+    const BidirectionalCounts& b = st.counts.bdpt;
     char buf[512];
     if (integrator == "pt")
         std::snprintf(buf, sizeof buf,
                       "work per sample: walk rays %.3f; light connections at vertices %.3f (%.3f rays), on segments %.3f "
                       "(%.3f rays), by solid angle %.3f (%.3f rays)\n",
-                      per(kPtWalkRays), per(kPtVertexCalls), per(kPtVertexRays), per(kPtSegmentCalls), per(kPtSegmentRays),
-                      per(kPtSolidAngleCalls), per(kPtSolidAngleRays));
+                      per(pt.walkRays), per(pt.vertexCalls), per(pt.vertexRays), per(pt.segmentCalls), per(pt.segmentRays),
+                      per(pt.solidAngleCalls), per(pt.solidAngleRays));
     else
         std::snprintf(buf, sizeof buf,
                       "work per sample: camera walk rays %.3f, light walk rays %.3f; light connections %.3f + %.3f "
                       "equi-angular rays, camera connections %.3f + %.3f, general connections %.3f + %.3f\n",
-                      per(kCameraWalkRays), per(kLightWalkRays), per(rayCounter(StrategyKind::LightConnection, false)),
-                      per(rayCounter(StrategyKind::LightConnection, true)), per(rayCounter(StrategyKind::CameraConnection, false)),
-                      per(rayCounter(StrategyKind::CameraConnection, true)), per(rayCounter(StrategyKind::SubpathConnection, false)),
-                      per(rayCounter(StrategyKind::SubpathConnection, true)));
+                      per(b.cameraWalkRays), per(b.lightWalkRays), per(b.rays(StrategyKind::LightConnection, false)),
+                      per(b.rays(StrategyKind::LightConnection, true)), per(b.rays(StrategyKind::CameraConnection, false)),
+                      per(b.rays(StrategyKind::CameraConnection, true)), per(b.rays(StrategyKind::SubpathConnection, false)),
+                      per(b.rays(StrategyKind::SubpathConnection, true)));
     return buf;
 }
 

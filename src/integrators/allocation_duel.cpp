@@ -31,13 +31,13 @@ void AllocationDuel::addPass(int c, int index, const std::vector<float>& image, 
 }
 
 void AllocationDuel::addWork(int c, const PathStats& totals, double samples) {
-    for (int k = 0; k < PathStats::kCounters; ++k) counters_[c][k] += totals.counters[k];
+    counts_[c].add(totals.counts);
     samples_[c] += samples;
 }
 
 double AllocationDuel::cost(int c, bool pathTracer) const {
     if (passes_[c] == 0) return 0.0;
-    return (pathTracer ? pathTracerCost(counters_[c]) : bidirectionalCost(counters_[c], samples_[c])) / passes_[c];
+    return (pathTracer ? pathTracerCost(counts_[c].pt) : bidirectionalCost(counts_[c].bdpt, samples_[c])) / passes_[c];
 }
 
 // Pairs of 2^level-pass batches in kPasses passes: kPasses / 2^(level+1); each gives 2·V.
@@ -49,16 +49,15 @@ double AllocationDuel::variance(int c, int level) const {
     return groups[kGroups / 2] * kGroups / (2.0 * pairs);
 }
 
-// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, u64 counters ×
-// 2·kCounters, f64 samples × 2, then per level (u64 n, n f32).
+// State: i32 passes × 2, f64 squares × 2·kLevels·kGroups, f64 mean × 2, u64 counts ×
+// 2·PathCounts::kCount, f64 samples × 2, then per level (u64 n, n f32).
 void AllocationDuel::save(std::string& out) const {
     for (int p : passes_) putBytes(out, int32_t(p));
     for (const auto& row : squares_)
         for (const auto& level : row)
             for (double v : level) putBytes(out, v);
     for (double m : mean_) putBytes(out, m);
-    for (const auto& row : counters_)
-        for (uint64_t v : row) putBytes(out, v);
+    for (const PathCounts& counts : counts_) counts.forEach([&](uint64_t v) { putBytes(out, v); });
     for (double v : samples_) putBytes(out, v);
     for (const std::vector<float>& f : first_) putVector(out, f);
 }
@@ -72,8 +71,7 @@ void AllocationDuel::load(StateReader& r, size_t values) {
         for (auto& level : row)
             for (double& v : level) v = r.get<double>();
     for (double& m : mean_) m = r.get<double>();
-    for (auto& row : counters_)
-        for (uint64_t& v : row) v = r.get<uint64_t>();
+    for (PathCounts& counts : counts_) counts.forEach([&](uint64_t& v) { v = r.get<uint64_t>(); });
     for (double& v : samples_) {
         v = r.get<double>();
         if (!(v >= 0)) throw std::runtime_error("allocation state is malformed");

@@ -23,7 +23,7 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 
 AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare)
     : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare) {
-    static_assert(PathStats::kSums >= 21, "a moment per candidate, and the path tracer's probe");
+    static_assert(AllocationMoments::kCandidates >= 19, "a moment per candidate");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
     for (size_t j = 0; j < candidates_.size(); ++j)
@@ -93,8 +93,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
             }
     }
     if (!collects(s.pass) || weights_.empty()) return;
-    for (int j = 0; j < PathStats::kSums; ++j) moments_[j] += s.totals.sums[j];
-    for (int k = 0; k < PathStats::kCounters; ++k) counters_[k] += s.totals.counters[k];
+    moments_.add(s.totals.moments);
+    counts_.add(s.totals.counts);
     samples_ += uint64_t(s.width) * uint64_t(s.height);
     if (++collected_ == kCollectPasses) decide();
 }
@@ -115,20 +115,21 @@ double AllocationPlanner::cost(const BdptAllocation& a) const {
         same.pathTracer = false;
         return kPathTracerCost * cost(same);
     }
-    auto rays = [&](int counter) { return double(counters_[counter]); };
+    const BidirectionalCounts& n = counts_.bdpt;
+    auto rays = [&](StrategyKind kind, bool ea) { return double(n.rays(kind, ea)); };
     const BdptAllocation& p = candidates_[size_t(pilot_)];
-    double c = kSample * double(samples_) + kCameraWalk * rays(kCameraWalkRays) +
-               kLightConnection * rays(rayCounter(StrategyKind::LightConnection, false));
-    if (a.equiAngularLight) c += kLightConnectionEa * rays(rayCounter(StrategyKind::LightConnection, true));
-    if (a.lightSubpaths) {
-        double light = kLightWalk * rays(kLightWalkRays);
+    double c = kSample * double(samples_) + kCameraWalk * double(n.cameraWalkRays) +
+               kLightConnection * rays(StrategyKind::LightConnection, false);
+    if (a.equiAngularLight) c += kLightConnectionEa * rays(StrategyKind::LightConnection, true);
+    if (a.lightSubpaths) {  // (summed apart: the light subpath's parts)
+        double light = kLightWalk * double(n.lightWalkRays);
         if (a.lightTracing) {
-            light += kCameraConnection * rays(rayCounter(StrategyKind::CameraConnection, false));
-            if (a.equiAngularCamera) light += kCameraConnectionEa * rays(rayCounter(StrategyKind::CameraConnection, true));
+            light += kCameraConnection * rays(StrategyKind::CameraConnection, false);
+            if (a.equiAngularCamera) light += kCameraConnectionEa * rays(StrategyKind::CameraConnection, true);
         }
         if (p.generalConnection > 0)
             light += kGeneralConnection * a.generalConnection / p.generalConnection *
-                     (rays(rayCounter(StrategyKind::SubpathConnection, false)) + rays(rayCounter(StrategyKind::SubpathConnection, true)));
+                     (rays(StrategyKind::SubpathConnection, false) + rays(StrategyKind::SubpathConnection, true));
         c += light;
     }
     return c / std::max(1, collected_);
@@ -155,11 +156,11 @@ void AllocationPlanner::decide() {
     // (the mean, and the covariances between path lengths that M leaves out, are the
     // pilot's). Per pass over the whole image: every second pixel in x and y recorded (×4).
     const double scale = 4.0 / std::max(1, collected_);
-    const double pilotMoment = moments_[pilot_] * scale;
+    const double pilotMoment = moments_.candidate[pilot_] * scale;
     estimates_.assign(candidates_.size(), Estimate{});
     int best = pilot_;
     for (size_t j = 0; j < candidates_.size(); ++j) {
-        const double m = moments_[j] * scale;
+        const double m = moments_.candidate[j] * scale;
         Estimate& e = estimates_[j];
         // (Kept above a hundredth of the pilot's where noise would make it negative.)
         // The path tracer: as "pt+ea" (the same strategies), or in coloured media and with
@@ -169,10 +170,10 @@ void AllocationPlanner::decide() {
             BdptAllocation same = candidates_[j];
             same.pathTracer = false;
             for (size_t k = 0; k < candidates_.size(); ++k)
-                if (candidates_[k] == same) difference = moments_[k] * scale - pilotMoment;
-            const bool probeSawAll = moments_[kPathTracerProbeMean] * scale >= 0.9 * pilotMean;
+                if (candidates_[k] == same) difference = moments_.candidate[k] * scale - pilotMoment;
+            const bool probeSawAll = moments_.probeMean * scale >= 0.9 * pilotMean;
             if (probe_ && std::isfinite(difference) && probeSawAll)
-                difference = moments_[kPathTracerProbe] * scale - pilotSecond;
+                difference = moments_.probe * scale - pilotSecond;
         }
         e.variance = std::isfinite(difference) ? std::max(pilotVariance + difference, 1e-2 * pilotVariance)
                                                : std::numeric_limits<double>::infinity();
@@ -187,7 +188,7 @@ void AllocationPlanner::decide() {
     pilotChoice_ = best;
     pilotVariance_ = pilotVariance;
     if (std::getenv("BRUME_DEBUG_PLANNER"))
-        std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_[0] * scale);
+        std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_.candidate[0] * scale);
     startDuel();
     if (chosen_ >= 0) keepLeftOut();
 }
@@ -345,14 +346,15 @@ std::string AllocationPlanner::report() const {
     std::stable_sort(order.begin(), order.end(),
                      [&](size_t a, size_t b) { return estimates_[a].efficiency > estimates_[b].efficiency; });
     char buf[512];
-    auto perPass = [&](int counter) { return double(counters_[counter]) / std::max(1, collected_); };
+    const BidirectionalCounts& n = counts_.bdpt;
+    auto perPass = [&](uint64_t count) { return double(count) / std::max(1, collected_); };
     std::snprintf(buf, sizeof buf,
                   "  pilot, rays per pass: camera walk %.0f, light walk %.0f, light connections %.0f + %.0f "
                   "equi-angular, camera connections %.0f + %.0f, general connections %.0f; samples %.0f\n",
-                  perPass(kCameraWalkRays), perPass(kLightWalkRays), perPass(rayCounter(StrategyKind::LightConnection, false)),
-                  perPass(rayCounter(StrategyKind::LightConnection, true)), perPass(rayCounter(StrategyKind::CameraConnection, false)),
-                  perPass(rayCounter(StrategyKind::CameraConnection, true)),
-                  perPass(rayCounter(StrategyKind::SubpathConnection, false)) + perPass(rayCounter(StrategyKind::SubpathConnection, true)),
+                  perPass(n.cameraWalkRays), perPass(n.lightWalkRays), perPass(n.rays(StrategyKind::LightConnection, false)),
+                  perPass(n.rays(StrategyKind::LightConnection, true)), perPass(n.rays(StrategyKind::CameraConnection, false)),
+                  perPass(n.rays(StrategyKind::CameraConnection, true)),
+                  perPass(n.rays(StrategyKind::SubpathConnection, false)) + perPass(n.rays(StrategyKind::SubpathConnection, true)),
                   double(samples_) / std::max(1, collected_));
     out += buf;
     std::snprintf(buf, sizeof buf, "  %-24s %12s %10s %12s   (relative to the pilot)\n", "candidate", "variance", "cost",
@@ -399,8 +401,9 @@ std::string AllocationPlanner::saveState() const {
     putBytes(out, int32_t(width_));
     putBytes(out, int32_t(height_));
     putBytes(out, samples_);
-    for (double m : moments_) putBytes(out, m);
-    for (uint64_t c : counters_) putBytes(out, c);
+    AllocationMoments moments = moments_;  // (forEach visits for writing)
+    moments.forEach([&](double m) { putBytes(out, m); });
+    counts_.forEach([&](uint64_t c) { putBytes(out, c); });
     putVector(out, sum_);
     putVector(out, sumSq_);
     putVector(out, weights_);
@@ -424,8 +427,8 @@ void AllocationPlanner::loadState(const std::string& state) {
         width > (1 << 16) || height > (1 << 16) || (pilotChoice >= 0 && collected != kCollectPasses))
         throw std::runtime_error("allocation state is malformed");
     samples_ = r.get<uint64_t>();
-    for (double& m : moments_) m = r.get<double>();
-    for (uint64_t& c : counters_) c = r.get<uint64_t>();
+    moments_.forEach([&](double& m) { m = r.get<double>(); });
+    counts_.forEach([&](uint64_t& c) { c = r.get<uint64_t>(); });
     const size_t values = size_t(width) * size_t(height) * 3;
     sum_ = r.getVector<double>(values);
     sumSq_ = r.getVector<double>(values);

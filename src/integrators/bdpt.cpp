@@ -182,8 +182,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const double lightMade = lightSubpathsMade();
     const bool traced = options_.allocation.lightSubpaths && (lightMade >= 1.0 || lightSampler.get1D(dim::kLightStart + dim::kMade) < lightMade);
     const int nLight = traced ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
-    stats.counters[kCameraWalkRays] += rays1 - rays0;
-    stats.counters[kLightWalkRays] += stats.rays - rays1;
+    stats.counts.bdpt.cameraWalkRays += rays1 - rays0;
+    stats.counts.bdpt.lightWalkRays += stats.rays - rays1;
 
     const bool weighted = options_.hooks.onlyS < 0 || options_.hooks.weighted;
     MisSettings mis{options_.heuristic, options_.connect,       options_.exactEquiAngular,
@@ -247,15 +247,15 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     if (collect) {
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
-                          ox, oy, stats.sums);
+                          ox, oy, stats.moments.candidate);
         // In coloured media and where the path tracer has strategies of its own, its probe:
         // one sample of its own, kept out of the image (allocation_planner.h).
         const Spectrum probe = planner_->pathTracerProbe() ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);
         const float* w = planner_->weights().at(ox, oy);
         if (isFinite(probe))
             for (int ch = 0; ch < 3; ++ch) {
-                stats.sums[AllocationPlanner::kPathTracerProbe] += double(w[ch]) * double(probe[ch]) * double(probe[ch]);
-                stats.sums[AllocationPlanner::kPathTracerProbeMean] += double(w[ch]) * double(probe[ch]);
+                stats.moments.probe += double(w[ch]) * double(probe[ch]) * double(probe[ch]);
+                stats.moments.probeMean += double(w[ch]) * double(probe[ch]);
             }
     }
     return L;
@@ -269,8 +269,8 @@ void BdptIntegrator::endPass(const Scene&, const PassSummary& summary) {
     }
     if (!summary.complete) return;
     for (int k = 0; k < 4; ++k) {
-        lastPass_.freeFlight[k] = summary.totals.counters[strategyCounter(StrategyKind(k), false)];
-        lastPass_.equiAngular[k] = summary.totals.counters[strategyCounter(StrategyKind(k), true)];
+        lastPass_.freeFlight[k] = summary.totals.counts.bdpt.contribution(StrategyKind(k), false);
+        lastPass_.equiAngular[k] = summary.totals.counts.bdpt.contribution(StrategyKind(k), true);
         total_.freeFlight[k] += lastPass_.freeFlight[k];
         total_.equiAngular[k] += lastPass_.equiAngular[k];
     }

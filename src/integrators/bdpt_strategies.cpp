@@ -138,19 +138,20 @@ bool swapInEquiAngular(const StrategyContext& c, PathVertex* path, int i, const 
 
 // A nonzero weighted estimate of a strategy, counted for the pass statistics.
 Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, Spectrum value) {
-    if (!isBlack(value)) ++c.stats.counters[strategyCounter(kind, equiAngular)];
+    if (!isBlack(value)) ++c.stats.counts.bdpt.contribution(kind, equiAngular);
     return value;
 }
 
-// Attributes the rays traced while it lives to a PathStats counter (rayCounter).
+// Attributes the rays traced while it lives to a connection's count (BidirectionalCounts).
 class RayMeter {
 public:
-    RayMeter(PathStats& stats, int counter) : stats_(stats), counter_(counter), start_(stats.rays) {}
-    ~RayMeter() { stats_.counters[counter_] += stats_.rays - start_; }
+    RayMeter(PathStats& stats, StrategyKind kind, bool equiAngular)
+        : stats_(stats), counter_(stats.counts.bdpt.rays(kind, equiAngular)), start_(stats.rays) {}
+    ~RayMeter() { counter_ += stats_.rays - start_; }
 
 private:
     PathStats& stats_;
-    int counter_;
+    uint64_t& counter_;
     uint64_t start_;
 };
 
@@ -227,7 +228,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
-        RayMeter meter(c.stats, rayCounter(StrategyKind::LightConnection, ea));
+        RayMeter meter(c.stats, StrategyKind::LightConnection, ea);
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
         double pea = 0;
@@ -285,7 +286,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
-        RayMeter meter(c.stats, rayCounter(StrategyKind::CameraConnection, ea));
+        RayMeter meter(c.stats, StrategyKind::CameraConnection, ea);
         // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
         // point light), within the view frustum.
         VertexSwap swap;
@@ -336,7 +337,7 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
-        RayMeter meter(c.stats, rayCounter(StrategyKind::SubpathConnection, ea));
+        RayMeter meter(c.stats, StrategyKind::SubpathConnection, ea);
         // The equi-angular variant: z(t−1) on its ray, towards y(s−1).
         VertexSwap swap;
         double pea = 0;

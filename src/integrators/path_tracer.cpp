@@ -278,20 +278,16 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
 }
 
-// Counts the rays a part of a sample traces, and its calls (PathTracerCounter).
+// Counts the rays a part of a sample traces, and its calls (PathTracerCounts).
 struct PartMeter {
     PathStats& stats;
-    int rays;
+    uint64_t& rays;
     uint64_t start;
-    PartMeter(PathStats& s, int raysCounter, int callsCounter) : stats(s), rays(raysCounter), start(s.rays) {
-        ++s.counters[callsCounter];
+    PartMeter(PathStats& s, uint64_t& raysCount, uint64_t& callsCount) : stats(s), rays(raysCount), start(s.rays) {
+        ++callsCount;
     }
-    ~PartMeter() { stats.counters[rays] += stats.rays - start; }
+    ~PartMeter() { rays += stats.rays - start; }
 };
-
-uint64_t connectionRays(const PathStats& s) {
-    return s.counters[kPtVertexRays] + s.counters[kPtSegmentRays] + s.counters[kPtSolidAngleRays];
-}
 
 }  // namespace
 
@@ -301,7 +297,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const ConnectMode mode = options_.connect;
     const int maxDepth = options_.maxDepth < 0 ? 1 << 30 : options_.maxDepth;
     const Ray cameraRay = scene.camera().generateRay(fx, fy, width, height);
-    const uint64_t rays0 = stats.rays, connections0 = connectionRays(stats);
+    const uint64_t rays0 = stats.rays, connections0 = stats.counts.pt.connectionRays();
     WalkSegment ray = leaving(cameraRay.o, Vec3(0.0f), cameraRay.d);
     MediumStack media = scene.cameraMedia();
     Spectrum L(0.0f), beta(1.0f);
@@ -348,12 +344,12 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
-                const PartMeter meter(stats, kPtSegmentRays, kPtSegmentCalls);
+                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
                 L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables,
                                               passing, stats);
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
-                const PartMeter meter(stats, kPtSolidAngleRays, kPtSolidAngleCalls);
+                const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
                 L += beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler, dim::solidAngleSegment(depth),
                                              repeat, tables, stats);
             }
@@ -386,7 +382,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.wo = -ray.d;
             v.origin = &prevOrigin;
             if (nee) {
-                const PartMeter meter(stats, kPtVertexRays, kPtVertexCalls);
+                const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
             }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
@@ -431,7 +427,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.bsdf = &bsdf;
             v.ng = hit.ng;
             if (nee && !bsdf.isSpecular()) {
-                const PartMeter meter(stats, kPtVertexRays, kPtVertexCalls);
+                const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
             }
 
@@ -454,8 +450,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             beta /= survive;
         }
     }
-    ++stats.counters[kPtSamples];
-    stats.counters[kPtWalkRays] += (stats.rays - rays0) - (connectionRays(stats) - connections0);
+    ++stats.counts.pt.samples;
+    stats.counts.pt.walkRays += (stats.rays - rays0) - (stats.counts.pt.connectionRays() - connections0);
     return L;
 }
 

@@ -1,14 +1,12 @@
 #include "brume/integrators/sample_cost.h"
 
-#include "brume/integrators/bdpt.h"
-#include "brume/integrators/path_tracer.h"
 
 namespace brume {
 
-double bidirectionalCost(const uint64_t* n, double samples) {
+double bidirectionalCost(const BidirectionalCounts& n, double samples) {
     using namespace bdpt_cost;
-    auto rays = [&](StrategyKind kind, bool ea) { return double(n[rayCounter(kind, ea)]); };
-    return kSample * samples + kCameraWalk * double(n[kCameraWalkRays]) + kLightWalk * double(n[kLightWalkRays]) +
+    auto rays = [&](StrategyKind kind, bool ea) { return double(n.rays(kind, ea)); };
+    return kSample * samples + kCameraWalk * double(n.cameraWalkRays) + kLightWalk * double(n.lightWalkRays) +
            kLightConnection * rays(StrategyKind::LightConnection, false) +
            kLightConnectionEa * rays(StrategyKind::LightConnection, true) +
            kCameraConnection * rays(StrategyKind::CameraConnection, false) +
@@ -16,10 +14,10 @@ double bidirectionalCost(const uint64_t* n, double samples) {
            kGeneralConnection * (rays(StrategyKind::SubpathConnection, false) + rays(StrategyKind::SubpathConnection, true));
 }
 
-double pathTracerCost(const uint64_t* n) {
+double pathTracerCost(const PathTracerCounts& n) {
     using namespace pt_cost;
-    return kSample * double(n[kPtSamples]) + kWalk * double(n[kPtWalkRays]) + kVertexCall * double(n[kPtVertexCalls]) +
-           kSegmentCall * double(n[kPtSegmentCalls]) + kSolidAngleRay * double(n[kPtSolidAngleRays]);
+    return kSample * double(n.samples) + kWalk * double(n.walkRays) + kVertexCall * double(n.vertexCalls) +
+           kSegmentCall * double(n.segmentCalls) + kSolidAngleRay * double(n.solidAngleRays);
 }
 
 }  // namespace brume

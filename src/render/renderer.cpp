@@ -132,7 +132,7 @@ public:
                 summary.totals.add(c.path);
             }
             stats.rays += summary.totals.rays;
-            for (int k = 0; k < PathStats::kCounters; ++k) stats.counters[k] += summary.totals.counters[k];
+            stats.counts.add(summary.totals.counts);
             summary.width = options_.width;
             summary.height = options_.height;
             summary.radiance = radiance_.data();

@@ -65,7 +65,7 @@ private:
     std::vector<float> first_[kLevels];  // the first batch of the current pair, per level (sums)
     double squares_[2][kLevels][kGroups] = {};  // Σ w·(a − b)² over the pairs so far, per pixel group
     double mean_[2] = {};
-    uint64_t counters_[2][PathStats::kCounters] = {};
+    PathCounts counts_[2];
     double samples_[2] = {};
     int passes_[2] = {0, 0};
 };

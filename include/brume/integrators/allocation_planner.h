@@ -76,8 +76,6 @@ public:
     // after which the allocation may still change.
     static constexpr int kDuelStart = kDecisionPass + 1;
     static constexpr int kLastDecisionPass = kDuelStart + 2 * AllocationDuel::kPasses - 1;
-    // The PathStats sums that take Σ w·L² and Σ w·L of the path tracer's probe samples (below).
-    static constexpr int kPathTracerProbe = PathStats::kSums - 1, kPathTracerProbeMean = PathStats::kSums - 2;
 
     // learnedShare: in single scattering, where the bidirectional tracer learns light
     // tracing's share (direct_light_tracing.h), the duel's bidirectional contender is the
@@ -183,8 +181,8 @@ private:
     std::vector<double> sum_, sumSq_;  // per pixel and channel, over the pilot passes so far
     int passes_ = 0;                   // pilot passes in sum_
     std::vector<float> weights_;       // 3 per pixel
-    double moments_[PathStats::kSums] = {};
-    uint64_t counters_[PathStats::kCounters] = {};
+    AllocationMoments moments_;  // the pilot's passes' sums (PathStats::moments)
+    PathCounts counts_;
     uint64_t samples_ = 0;
     int collected_ = 0;
     std::vector<Estimate> estimates_;

@@ -75,17 +75,9 @@ struct BdptOptions {
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
 // estimate), by variant: the statistics that flow back through the pass hooks, deterministic
 // for any thread count (PathStats::counters, summed in tile order).
-enum class StrategyKind : int { EmitterHit, LightConnection, CameraConnection, SubpathConnection };
 struct StrategyCounts {
-    uint64_t freeFlight[4] = {}, equiAngular[4] = {};  // by StrategyKind
+    uint64_t freeFlight[4] = {}, equiAngular[4] = {};  // by StrategyKind (path_stats.h)
 };
-// The PathStats counter a strategy's contribution counts in.
-inline int strategyCounter(StrategyKind kind, bool equiAngular) { return int(kind) + (equiAngular ? 4 : 0); }
-// The PathStats counters of the rays each part of a sample traced, the efficiency-aware
-// tracer's cost model (allocation_planner.h): the two walks, and each kind of connection
-// but the emitter hit (which traces none of its own) by variant.
-constexpr int kCameraWalkRays = 8, kLightWalkRays = 9;
-inline int rayCounter(StrategyKind kind, bool equiAngular) { return 8 + 2 * int(kind) + (equiAngular ? 1 : 0); }
 
 class AllocationPlanner;
 class DirectLightTracing;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+#include "brume/integrators/path_stats.h"
 #include "brume/integrators/splat_list.h"
 #include "brume/math/fixed_sum.h"
 #include "brume/math/vec3.h"
@@ -12,21 +13,6 @@
 namespace brume {
 
 class Scene;
-
-// Counters of the samples of one work unit (a tile of a pass). The renderer keeps one per
-// tile and sums them in tile order once the pass is complete: rays for the summary line, and
-// counters for the integrator's own statistics (its endPass), the same for any thread count.
-struct PathStats {
-    static constexpr int kCounters = 24, kSums = 24;
-    uint64_t rays = 0;                     // closest-hit and shadow rays traced
-    uint64_t counters[kCounters] = {};     // integrator-defined
-    double sums[kSums] = {};               // integrator-defined (summed in tile order too)
-    void add(const PathStats& o) {
-        rays += o.rays;
-        for (int i = 0; i < kCounters; ++i) counters[i] += o.counters[i];
-        for (int i = 0; i < kSums; ++i) sums[i] += o.sums[i];
-    }
-};
 
 // A pass as its integrator hears of it after the fact.
 struct PassSummary {

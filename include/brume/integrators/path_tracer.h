@@ -27,25 +27,6 @@ inline float connectAnisotropy(ConnectMode m, float g) {
     return m == ConnectMode::Product || m == ConnectMode::Mis ? g : 0.0f;
 }
 
-// What a path-tracer sample counts (PathStats::counters; past the bidirectional tracer's, which
-// runs it as a candidate): its samples, the rays of its walk, and the rays and calls of each
-// part of its light connections: at vertices (free flight, surfaces), on segments
-// (equi-angular or product) and by an emitter's solid angle. The efficiency-aware tracer's
-// duel counts its cost from them (allocation_planner.h).
-enum PathTracerCounter {
-    kPtSamples = 16,
-    kPtWalkRays,
-    kPtVertexRays,
-    kPtVertexCalls,
-    kPtSegmentRays,
-    kPtSegmentCalls,
-    kPtSolidAngleRays,
-    kPtSolidAngleCalls,
-    kPtCounterEnd
-};
-
-static_assert(kPtCounterEnd <= PathStats::kCounters, "the path tracer's counters fit");
-
 struct PathTracerOptions {
     int maxDepth = -1;                // most scattering events on a path; −1 = unlimited
     bool nextEventEstimation = true;  // false: pure BSDF/phase sampling (for the tests)

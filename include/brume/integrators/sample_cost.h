@@ -21,6 +21,8 @@
 #pragma once
 #include <cstdint>
 
+#include "brume/integrators/path_stats.h"
+
 namespace brume {
 
 namespace bdpt_cost {
@@ -32,10 +34,10 @@ namespace pt_cost {
 constexpr double kSample = 3.2, kWalk = 1.7, kVertexCall = 0.2, kSegmentCall = 2.6, kSolidAngleRay = 9.0;
 }  // namespace pt_cost
 
-// The cost of `samples` samples of the bidirectional tracer that counted `counters`, every
-// part as it was made.
-double bidirectionalCost(const uint64_t* counters, double samples);
-// The cost of the path-tracer samples that counted `counters` (their number among them).
-double pathTracerCost(const uint64_t* counters);
+// The cost of `samples` samples of the bidirectional tracer that counted `n`, every part as it
+// was made.
+double bidirectionalCost(const BidirectionalCounts& n, double samples);
+// The cost of the path-tracer samples that counted `n` (their number among them).
+double pathTracerCost(const PathTracerCounts& n);
 
 }  // namespace brume

@@ -40,7 +40,7 @@ struct RenderStats {
     int passes = 0;          // passes completed by this call (= spp unless stopped early)
     uint64_t samples = 0;    // pixel samples of those passes, non-finite ones included
     uint64_t rays = 0;       // as counted by the integrator (PathStats::rays), same passes
-    uint64_t counters[PathStats::kCounters] = {};  // the integrator's own (PathStats), same passes
+    PathCounts counts;       // the integrator's own (PathStats), same passes
     uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
 };
 

@@ -1,0 +1,106 @@
+// What the samples of a tile count, typed: the renderer keeps one PathStats per tile and sums
+// them in tile order once the pass is complete, so the statistics an integrator keeps from pass
+// to pass (its endPass) are the same for any thread count.
+#pragma once
+#include <cstdint>
+#include <initializer_list>
+
+namespace brume {
+
+// The bidirectional tracer's kinds of strategy (bdpt_strategies.h).
+enum class StrategyKind : int { EmitterHit, LightConnection, CameraConnection, SubpathConnection };
+constexpr int kStrategyKinds = 4;
+
+// The bidirectional tracer's counts: contributions (nonzero weighted estimates) by kind and
+// variant, and the rays each part of a sample traced (the cost model of the efficiency-aware
+// tracer, sample_cost.h): the two walks, and each kind of connection but the emitter hit
+// (which traces none of its own) by variant.
+struct BidirectionalCounts {
+    uint64_t contributions[2][kStrategyKinds] = {};  // [equi-angular variant][kind]
+    uint64_t cameraWalkRays = 0, lightWalkRays = 0;
+    uint64_t connectionRays[kStrategyKinds][2] = {};  // [kind][equi-angular variant]
+
+    uint64_t& contribution(StrategyKind k, bool equiAngular) { return contributions[equiAngular ? 1 : 0][int(k)]; }
+    uint64_t contribution(StrategyKind k, bool equiAngular) const { return contributions[equiAngular ? 1 : 0][int(k)]; }
+    uint64_t& rays(StrategyKind k, bool equiAngular) { return connectionRays[int(k)][equiAngular ? 1 : 0]; }
+    uint64_t rays(StrategyKind k, bool equiAngular) const { return connectionRays[int(k)][equiAngular ? 1 : 0]; }
+};
+
+// The path tracer's counts: its samples, the rays of its walk, and the calls and rays of each
+// part of its light connections: at vertices (free flight, surfaces), on segments
+// (equi-angular or product) and by an emitter's solid angle.
+struct PathTracerCounts {
+    uint64_t samples = 0, walkRays = 0;
+    uint64_t vertexRays = 0, vertexCalls = 0;
+    uint64_t segmentRays = 0, segmentCalls = 0;
+    uint64_t solidAngleRays = 0, solidAngleCalls = 0;
+    uint64_t connectionRays() const { return vertexRays + segmentRays + solidAngleRays; }
+};
+
+// Both, as a pass or a render counted them.
+struct PathCounts {
+    BidirectionalCounts bdpt;
+    PathTracerCounts pt;
+
+    // Every count, in a fixed order (for adding and for checkpoints).
+    template <class F>
+    void forEach(F&& f) { visit(*this, f); }
+    template <class F>
+    void forEach(F&& f) const { visit(*this, f); }
+    void add(const PathCounts& o) {
+        const uint64_t* from[kCount];
+        int n = 0;
+        o.forEach([&](const uint64_t& v) { from[n++] = &v; });
+        n = 0;
+        forEach([&](uint64_t& v) { v += *from[n++]; });
+    }
+    static constexpr int kCount = 2 * kStrategyKinds + 2 + 2 * (kStrategyKinds - 1) + 8;
+
+private:
+    template <class Self, class F>
+    static void visit(Self& s, F& f) {
+        for (auto& row : s.bdpt.contributions)
+            for (auto& v : row) f(v);
+        f(s.bdpt.cameraWalkRays);
+        f(s.bdpt.lightWalkRays);
+        for (int k = 1; k < kStrategyKinds; ++k)
+            for (auto& v : s.bdpt.connectionRays[k]) f(v);
+        for (auto* v : {&s.pt.samples, &s.pt.walkRays, &s.pt.vertexRays, &s.pt.vertexCalls, &s.pt.segmentRays,
+                        &s.pt.segmentCalls, &s.pt.solidAngleRays, &s.pt.solidAngleCalls})
+            f(*v);
+    }
+};
+
+// The efficiency-aware tracer's sums over its recording pixels (allocation_statistics.h): per
+// candidate allocation Σ w·F², and its probe of the path tracer, Σ w·L and Σ w·L².
+struct AllocationMoments {
+    static constexpr int kCandidates = 22;
+    double candidate[kCandidates] = {};
+    double probeMean = 0, probe = 0;
+
+    template <class F>
+    void forEach(F&& f) {
+        for (double& v : candidate) f(v);
+        f(probeMean);
+        f(probe);
+    }
+    static constexpr int kCount = kCandidates + 2;
+    void add(const AllocationMoments& o) {
+        for (int j = 0; j < kCandidates; ++j) candidate[j] += o.candidate[j];
+        probeMean += o.probeMean;
+        probe += o.probe;
+    }
+};
+
+struct PathStats {
+    uint64_t rays = 0;  // closest-hit and shadow rays traced
+    PathCounts counts;
+    AllocationMoments moments;
+    void add(const PathStats& o) {
+        rays += o.rays;
+        counts.add(o.counts);
+        moments.add(o.moments);
+    }
+};
+
+}  // namespace brume

@@ -24,7 +24,7 @@
 // groups and the estimate is the median of the groups' sums times kGroups (median of means):
 // a firefly moves one group.
 //
-// Cost: each contender's passes count their own work (PathStats::counters), from which
+// Cost: each contender's passes count their own work (PathStats::counts, path_stats.h), from which
 // sample_cost.h gives the cost of one of its passes.
 #pragma once
 #include <cstdint>

@@ -74,7 +74,7 @@ struct BdptOptions {
 
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
 // estimate), by variant: the statistics that flow back through the pass hooks, deterministic
-// for any thread count (PathStats::counters, summed in tile order).
+// for any thread count (PathStats::counts, summed in tile order).
 struct StrategyCounts {
     uint64_t freeFlight[4] = {}, equiAngular[4] = {};  // by StrategyKind (path_stats.h)
 };

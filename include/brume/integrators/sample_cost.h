@@ -1,5 +1,5 @@
 // What samples cost, in units of one ray of the bidirectional tracer's camera walk, counted
-// from the parts they made (PathStats::counters): the efficiency-aware tracer's stand-in for
+// from the parts they made (PathCounts, path_stats.h): the efficiency-aware tracer's stand-in for
 // time (allocation_planner.h), which would make the image depend on the machine's load.
 //
 // Bidirectional tracer: each part's rays, weighted by what one costs with everything that

@@ -67,15 +67,7 @@ inline double medianOfMeans(const StabilityRun& run, const std::vector<bool>& ma
 inline PixelEstimate imageMean(const StabilityRun& run, const std::vector<bool>& maskedBlock) {
     PixelEstimate e;
     for (int b = 0; b < run.batches; ++b) {
-        double sum = 0;
-        long n = 0;
-        for (int i = 0; i < run.width * run.height; ++i) {
-            int bx = (i % run.width) / run.block, by = (i / run.width) / run.block;
-            if (bx >= run.blocksX() || maskedBlock[size_t(by) * run.blocksX() + bx]) continue;
-            sum += run.pixel(b, i);
-            ++n;
-        }
-        double v = n > 0 ? sum / double(n) : 0.0;
+        const double v = batchImageMean(run, b, maskedBlock);
         for (int c = 0; c < 3; ++c) e.sum[c] += v, e.sum2[c] += v * v;
         ++e.n;
     }

@@ -7,8 +7,12 @@ transport (full, single scattering), from docs/bench/results/val_SCENE_{full,sin
      over the four kinds the issue names (doorway, glass beam, fog room, g = 0.92 lamp).
 Efficiency = 1 / (relative MSE x seconds). Prints markdown.
 
-    python3 docs/bench/validation/tables.py [TAG]"""
+    python3 docs/bench/validation/tables.py [TAG] [--seeds]
+
+--seeds: from the runs of several seeds (SEEDS="1 2 3" run_validation.sh:
+val_SCENE_DEPTH[_TAG]_sSEED.csv), each method's efficiency is the geometric mean over the seeds."""
 import csv
+import glob
 import math
 import os
 import sys
@@ -20,10 +24,7 @@ KINDS = ["val_doorway", "val_glass_beam", "val_fog_room", "val_forward"]
 SINGLE_PT = ["pt:density", "pt:equiangular", "pt:product"]
 
 
-def load(scene, depth, tag):
-    path = os.path.join(RESULTS, "%s_%s%s.csv" % (scene, depth, "_" + tag if tag else ""))
-    if not os.path.exists(path):
-        return None
+def load_file(path):
     eff = {}
     with open(path) as f:
         for r in csv.DictReader(f):
@@ -32,13 +33,26 @@ def load(scene, depth, tag):
     return eff
 
 
+def load(scene, depth, tag, seeds=False):
+    stem = os.path.join(RESULTS, "%s_%s%s" % (scene, depth, "_" + tag if tag else ""))
+    if not seeds:
+        return load_file(stem + ".csv") if os.path.exists(stem + ".csv") else None
+    runs = [load_file(p) for p in sorted(glob.glob(stem + "_s*.csv"))]
+    if not runs:
+        return None
+    methods = set.intersection(*(set(r) for r in runs))
+    return {m: math.exp(sum(math.log(max(r[m], 1e-300)) for r in runs) / len(runs)) for m in methods}
+
+
 def fmt(x):
     return "%.3g" % x
 
 
 def main():
-    tag = sys.argv[1] if len(sys.argv) > 1 else ""
-    runs = {(s, d): load(s, d, tag) for s in SCENES for d in ("full", "single")}
+    args = [a for a in sys.argv[1:] if a != "--seeds"]
+    seeds = "--seeds" in sys.argv[1:]
+    tag = args[0] if args else ""
+    runs = {(s, d): load(s, d, tag, seeds) for s in SCENES for d in ("full", "single")}
 
     print("**1. `pt --connect mis` against its best single technique** (target: within 1.25×)\n")
     print("| scene | transport | best single | its efficiency | pt:mis | best / pt:mis | |")

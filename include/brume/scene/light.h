@@ -41,7 +41,7 @@ struct Light {
     bool doubleSided = false;
     float power = 0;
 
-    // What integrators ask of a light instead of its kind (docs/architecture.md, "Lights"):
+    // What integrators ask of a light instead of its kind (docs/architecture.md, "A light"):
     // a delta light (point, spot, directional) has no area: only a connection reaches it, and
     // its sample draws no numbers.
     bool isDelta() const { return kind == LightKind::Point || kind == LightKind::Spot || kind == LightKind::Directional; }
@@ -51,8 +51,8 @@ struct Light {
     bool hasSurface() const { return kind == LightKind::Triangle || kind == LightKind::Sphere; }
     // A planar emitter with corners (an emissive triangle, half a rectangle with a partner):
     // sampled by area or by solid angle, and by distance tables along a ray
-    // (solid_angle_segment.h).
-    // Equi-angular sampling then aims at a point drawn on it by area, not at a position.
+    // (solid_angle_segment.h); equi-angular sampling aims at a point drawn on it by area, not
+    // at a position.
     bool isPlanar() const { return kind == LightKind::Triangle; }
 };
 

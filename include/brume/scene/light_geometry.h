@@ -2,7 +2,7 @@
 // sampling aims at, the part of a ray the light can reach, and texture coordinates on an
 // emitter. With light_sampling.h (points on a light and their densities) and
 // light_emission.h (emission and its densities), the operations integrators ask of a light
-// instead of switching on its kind (docs/architecture.md, "Lights").
+// instead of switching on its kind (docs/architecture.md, "A light").
 #pragma once
 #include "brume/math/vec3.h"
 #include "brume/sampling/sampler.h"

@@ -47,6 +47,7 @@ struct Checker : BdptObserver {
     double connectP = 1;   // BdptOptions::generalConnection (0 without light subpaths)
     double cameraCount = 1;  // camera connections made per sample (0: no light tracing or no light subpaths)
     bool eaLight = true, eaCamera = true;  // BdptOptions::equiAngularLight, equiAngularCamera
+    bool eaOnly = false;  // BdptAllocation::equiAngularOnly: an equi-angular variant replaces the free-flight one
     // Light tracing's share of one-event paths (MisSettings::directLightTracing): this, or
     // the integrator's learned factor in force (direct_light_tracing.h).
     double directFactor = 1;
@@ -264,7 +265,7 @@ struct Checker : BdptObserver {
                 long double prod = 1;
                 for (int i = 1; i <= tt - 1; ++i) prod *= remap(fwd[i][c]);
                 for (int i = tt; i <= k; ++i) prod *= remap(rev[i][c]);
-                bool eaOn = rho[c] > 0, ffOn = !(variantOnly(connect) && eaOn);
+                bool eaOn = rho[c] > 0, ffOn = !((variantOnly(connect) || eaOnly) && eaOn);
                 if (lastMediumUnmade && tt - 1 >= m) ffOn = false;  // the camera walk cannot make x(m)
                 // A general connection is made with probability connectP: its densities count that much.
                 if (tt >= 2 && ss >= 2) prod *= connectP;
@@ -345,6 +346,7 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
             checker.cameraCount = allocation->lightSubpaths && allocation->lightTracing ? 1 : 0;
             checker.eaLight = allocation->equiAngularLight;
             checker.eaCamera = allocation->equiAngularCamera;
+            checker.eaOnly = allocation->equiAngularOnly;
         }
         opt.directLightTracing = directFactor;
         if (directFactor >= 0) checker.directFactor = directFactor;

@@ -23,7 +23,7 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 
 AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare)
     : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare) {
-    static_assert(AllocationMoments::kCandidates >= 19, "a moment per candidate");
+    static_assert(AllocationMoments::kCandidates >= 31, "a moment per candidate");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
     for (size_t j = 0; j < candidates_.size(); ++j)
@@ -118,13 +118,15 @@ double AllocationPlanner::cost(const BdptAllocation& a) const {
     const BidirectionalCounts& n = counts_.bdpt;
     auto rays = [&](StrategyKind kind, bool ea) { return double(n.rays(kind, ea)); };
     const BdptAllocation& p = candidates_[size_t(pilot_)];
+    // An ea-only allocation does not trace the free-flight variants its equi-angular ones replace.
+    const bool onlyL = a.equiAngularOnly && a.equiAngularLight, onlyC = a.equiAngularOnly && a.equiAngularCamera;
     double c = kSample * double(samples_) + kCameraWalk * double(n.cameraWalkRays) +
-               kLightConnection * rays(StrategyKind::LightConnection, false);
+               kLightConnection * (rays(StrategyKind::LightConnection, false) - (onlyL ? double(n.replaceableRays[0]) : 0.0));
     if (a.equiAngularLight) c += kLightConnectionEa * rays(StrategyKind::LightConnection, true);
     if (a.lightSubpaths) {  // (summed apart: the light subpath's parts)
         double light = kLightWalk * double(n.lightWalkRays);
         if (a.lightTracing) {
-            light += kCameraConnection * rays(StrategyKind::CameraConnection, false);
+            light += kCameraConnection * (rays(StrategyKind::CameraConnection, false) - (onlyC ? double(n.replaceableRays[1]) : 0.0));
             if (a.equiAngularCamera) light += kCameraConnectionEa * rays(StrategyKind::CameraConnection, true);
         }
         if (p.generalConnection > 0)

@@ -193,6 +193,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     mis.cameraConnection = options_.allocation.lightSubpaths && options_.allocation.lightTracing ? lightMade : 0.0;
     mis.equiAngularLight = options_.allocation.equiAngularLight;
     mis.equiAngularCamera = options_.allocation.equiAngularCamera;
+    mis.equiAngularOnly = options_.allocation.equiAngularOnly;
     if (usesShare_) mis.directLightTracing = direct_->factor();
     else if (options_.directLightTracing >= 0) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {
@@ -247,7 +248,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     if (collect) {
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
-                          ox, oy, stats.moments.candidate);
+                          ox, oy, stats.moments);
         // In coloured media and where the path tracer has strategies of its own, its probe:
         // one sample of its own, kept out of the image (allocation_planner.h).
         const Spectrum probe = planner_->pathTracerProbe() ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);

@@ -99,7 +99,7 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
     RC V(Real(1));
     for (int c = 0; c < N; ++c) {
         bool eaOn = r[c] > 0;
-        bool ffOn = !((variantOnly(st.connect) || freeFlightOff) && eaOn);
+        bool ffOn = !((equiAngularReplacesFreeFlight(st) || freeFlightOff) && eaOn);
         V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
     // A general connection is made with probability p: its densities count p times; a camera
@@ -265,7 +265,7 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         // one 1/ρ.
         Real sum = ownV[c];
         if (ownEquiAngular) {
-            bool ffOn = !(variantOnly(st.connect) && ownEaAllowed) && t - 1 != st.passFirstAt;
+            bool ffOn = !(equiAngularReplacesFreeFlight(st) && ownEaAllowed) && t - 1 != st.passFirstAt;
             sum = ownCount * (Real(ownEaAllowed ? 1 : 0) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0)));
         }
         // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)

@@ -115,11 +115,20 @@ StrategyJoin joinOf(const Connection& conn, bool equiAngular, double equiAngular
     return StrategyJoin{conn.freeFlightToA, conn.freeFlightToB, conn.crossed, equiAngular, equiAngular ? equiAngularDensity : 0.0};
 }
 
-// Whether a connection's free-flight variant runs: the vertex must scatter, and where the
-// equi-angular variant could have made the same medium vertex, --connect equiangular has it
-// replace the free-flight one.
-bool freeFlightVariantOn(ConnectMode mode, bool real, const PathVertex& v, bool equiAngularOn) {
-    return real && scatters(v) && !(variantOnly(mode) && equiAngularOn && v.isMedium() && !v.edgeCrossed);
+// Whether the equi-angular variant (on) replaces a connection's free-flight variant at v: where
+// it could have made the same medium vertex, with --connect equiangular or an ea-only
+// allocation.
+bool replaceableByEquiAngular(const PathVertex& v, bool equiAngularOn) {
+    return equiAngularOn && v.isMedium() && !v.edgeCrossed;
+}
+bool replacedByEquiAngular(const MisSettings& st, const PathVertex& v, bool equiAngularOn) {
+    return equiAngularReplacesFreeFlight(st) && replaceableByEquiAngular(v, equiAngularOn);
+}
+
+// Whether a connection's free-flight variant runs: the vertex must scatter, and not be
+// replaced by the equi-angular variant.
+bool freeFlightVariantOn(const MisSettings& st, bool real, const PathVertex& v, bool equiAngularOn) {
+    return real && scatters(v) && !replacedByEquiAngular(st, v, equiAngularOn);
 }
 
 // Variant 0 (free flight) or 1 (equi-angular), as BdptOptions::onlyVariant allows.
@@ -145,21 +154,33 @@ Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, 
 // Attributes the rays traced while it lives to a connection's count (BidirectionalCounts).
 class RayMeter {
 public:
-    RayMeter(PathStats& stats, StrategyKind kind, bool equiAngular)
-        : stats_(stats), counter_(stats.counts.bdpt.rays(kind, equiAngular)), start_(stats.rays) {}
-    ~RayMeter() { counter_ += stats_.rays - start_; }
+    // also: a second counter of the same rays (or none).
+    RayMeter(PathStats& stats, StrategyKind kind, bool equiAngular, uint64_t* also = nullptr)
+        : stats_(stats), counter_(stats.counts.bdpt.rays(kind, equiAngular)), also_(also), start_(stats.rays) {}
+    ~RayMeter() {
+        counter_ += stats_.rays - start_;
+        if (also_) *also_ += stats_.rays - start_;
+    }
 
 private:
     PathStats& stats_;
     uint64_t& counter_;
+    uint64_t* also_;
     uint64_t start_;
 };
 
+// The rays of a light (0) or camera (1) connection's free-flight variant that an ea-only
+// allocation would not trace, counted apart for the planner's cost of it.
+uint64_t* replaceableRays(const StrategyContext& c, int which, bool equiAngular, const PathVertex& v, bool equiAngularOn) {
+    return !equiAngular && replaceableByEquiAngular(v, equiAngularOn) ? &c.stats.counts.bdpt.replaceableRays[which] : nullptr;
+}
+
 // While statistics are gathered: the contribution `value` (unweighted, for one sample of the
 // strategy) with what its weight can be recomputed from under another allocation.
-void record(const StrategyContext& c, const PathVertex* lightVertex, int s, int t, const StrategyJoin& join,
-            Spectrum value, int x = -1, int y = -1) {
-    if (!c.records) return;
+// Returns its index, or −1.
+int record(const StrategyContext& c, const PathVertex* lightVertex, int s, int t, const StrategyJoin& join,
+           Spectrum value, int x = -1, int y = -1) {
+    if (!c.records) return -1;
     c.records->emplace_back();
     WeightRecord& r = c.records->back();
     r.s = s;
@@ -172,6 +193,13 @@ void record(const StrategyContext& c, const PathVertex* lightVertex, int s, int 
     if (r.moved) r.vertex = t >= 2 ? c.camera[t - 1] : c.light[s - 1];
     r.hasLightVertex = lightVertex != nullptr;  // (light connections: the sampled y0)
     if (lightVertex) r.lightVertex = *lightVertex;
+    return int(c.records->size()) - 1;
+}
+
+// Marks the free-flight variant's record (index, −1: none) as one an ea-only allocation would
+// not make (allocation_statistics.h).
+void markReplaceable(const StrategyContext& c, int recorded, bool replaceable) {
+    if (c.records && recorded >= 0 && replaceable) (*c.records)[size_t(recorded)].replaceable = true;
 }
 
 // The weight of the joined sample, told to the observer; 1 when unweighted.
@@ -223,12 +251,14 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     Vec3 anchor;
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
                       !zPrev.delta && lightAnchor(l, uLight, &anchor);
-    const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
+    const bool ffOn = freeFlightVariantOn(c.mis, t <= c.nCamera, c.camera[t - 1], eaOn);
+    const bool replaceable = replaceableByEquiAngular(c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
+    int recorded[2] = {-1, -1};
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
-        RayMeter meter(c.stats, StrategyKind::LightConnection, ea);
+        RayMeter meter(c.stats, StrategyKind::LightConnection, ea, replaceableRays(c, 0, ea, c.camera[t - 1], eaOn));
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
         double pea = 0;
@@ -265,11 +295,12 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             PathVertex y0 = makeLightVertex(scene, yi, scene.lightDistribution().pmf(yi), p, n, pos);
             const StrategyJoin join = joinOf(conn, ea, pea);
             w = weigh(c, &y0, 1, t, join);
-            record(c, &y0, 1, t, join, contrib);
+            recorded[variant] = record(c, &y0, 1, t, join, contrib);
             learnDirect(c, &y0, 1, t, join, contrib);
         }
         if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
     }
+    markReplaceable(c, recorded[0], replaceable);
     return L;
 }
 
@@ -282,11 +313,13 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularCamera && yPrev && edge.edgeMedium &&
                       !yPrev->delta && (real || edge.ghost);
     const bool ffOn = real && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
-                      !(variantOnly(c.mis.connect) && eaOn && edge.isMedium() && !edge.edgeCrossed);
+                      !replacedByEquiAngular(c.mis, edge, eaOn);
+    const bool replaceable = replaceableByEquiAngular(edge, eaOn);
+    int recorded[2] = {-1, -1};
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
-        RayMeter meter(c.stats, StrategyKind::CameraConnection, ea);
+        RayMeter meter(c.stats, StrategyKind::CameraConnection, ea, replaceableRays(c, 1, ea, edge, eaOn));
         // The equi-angular variant: y(s−1) on its ray, towards the pinhole (the camera as a
         // point light), within the view frustum.
         VertexSwap swap;
@@ -313,13 +346,14 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         if (isBlack(value)) continue;
         const StrategyJoin join = joinOf(conn, ea, pea);
         float w = weigh(c, c.light, s, 1, join);
-        record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
+        recorded[variant] = record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
         learnDirect(c, c.light, s, 1, join, value, cc.fx, cc.fy);
         // (Made cameraConnection ≤ 1 times per sample on average: counted 1/that.)
         if (std::isfinite(w))
             splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * (w / float(c.mis.cameraConnection))),
                          c.width, c.height);
     }
+    markReplaceable(c, recorded[0], replaceable);
 }
 
 Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
@@ -332,7 +366,7 @@ Spectrum subpathConnection(const StrategyContext& c, int s, int t) {
     const PathVertex& zPrev = c.camera[t - 2];
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.generalEquiAngular && c.camera[t - 1].edgeMedium &&
                       !zPrev.delta;
-    const bool ffOn = freeFlightVariantOn(c.mis.connect, t <= c.nCamera, c.camera[t - 1], eaOn);
+    const bool ffOn = freeFlightVariantOn(c.mis, t <= c.nCamera, c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;

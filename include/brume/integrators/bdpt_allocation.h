@@ -27,14 +27,19 @@ struct BdptAllocation {
     // --connect mis|equiangular).
     bool equiAngularLight = true;
     bool equiAngularCamera = true;
+    // Where a light or camera connection's equi-angular variant is on and could make the
+    // connection vertex (a medium vertex whose edge crossed no boundary), it replaces the
+    // free-flight variant instead of adding to it, as --connect equiangular does (there the
+    // free-flight variant adds its variance and its rays to a nearly exact technique).
+    bool equiAngularOnly = false;
     // The volumetric path tracer itself (`pt`, with --connect mis or density) instead of the
     // bidirectional tracer without light subpaths: the same strategies, at less cost per
     // sample. To the statistics it is "pt+ea" (or "pt"); to the cost model, that times
     // kPathTracerCost.
     bool pathTracer = false;
 
-    // Short and stable, e.g. "pt+ea" or "bdpt lt p=0.25 ea=LC"; used in reports and by
-    // --allocation.
+    // Short and stable, e.g. "pt+ea" or "bdpt lt p=0.25 ea=LC" ("ea-only=LC" with
+    // equiAngularOnly); used in reports and by --allocation.
     std::string name() const;
     bool operator==(const BdptAllocation& o) const;
 };
@@ -47,6 +52,7 @@ BdptAllocation pilotAllocation();
 //                       the path tracer                                                (1)
 //   light subpaths:     light tracing on:  p ∈ {0, 1/4, 1} × ea light × ea camera      (12)
 //                       light tracing off: p ∈ {1/4, 1} × ea light                      (4)
+//   and each one with an equi-angular variant on, with it alone (equiAngularOnly)     (12)
 std::vector<BdptAllocation> candidateAllocations(ConnectMode connect);
 
 // The candidate named `name` (BdptAllocation::name); false if none is.

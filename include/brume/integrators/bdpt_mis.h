@@ -40,6 +40,9 @@ struct MisSettings {
     // density counted n times in every weight; one made 0 times drops out of them.
     double cameraConnection = 1.0;
     bool equiAngularLight = true, equiAngularCamera = true;
+    // Whether an equi-angular variant that is on replaces the free-flight one at a medium
+    // vertex (BdptAllocation::equiAngularOnly; --connect equiangular and product always do).
+    bool equiAngularOnly = false;
     // On paths of one scattering event (camera, x1, light) only: a factor on the camera
     // connection's count in every weight, learned by direct_light_tracing.h (variance-aware
     // MIS; 1 = the plain heuristic). The camera connection is still made cameraConnection
@@ -51,6 +54,10 @@ struct MisSettings {
     enum class Alone { None, CameraSide, LightTracing };
     Alone directAlone = Alone::None;
 };
+
+// Whether a connection's equi-angular variant, where it is on at a medium vertex, replaces
+// the free-flight variant (its count 0 there) rather than adding to it.
+inline bool equiAngularReplacesFreeFlight(const MisSettings& st) { return variantOnly(st.connect) || st.equiAngularOnly; }
 
 // Whether the camera walk passes through media to make its vertex j, after a vertex that is
 // specular (prevDelta) or not.

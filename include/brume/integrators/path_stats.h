@@ -19,6 +19,10 @@ struct BidirectionalCounts {
     uint64_t contributions[2][kStrategyKinds] = {};  // [equi-angular variant][kind]
     uint64_t cameraWalkRays = 0, lightWalkRays = 0;
     uint64_t connectionRays[kStrategyKinds][2] = {};  // [kind][equi-angular variant]
+    // Of the free-flight light (0) and camera (1) connections' rays, those at vertices where
+    // the equi-angular variant was on and could have made the vertex: what an ea-only
+    // allocation (bdpt_allocation.h) would not trace.
+    uint64_t replaceableRays[2] = {};
 
     uint64_t& contribution(StrategyKind k, bool equiAngular) { return contributions[equiAngular ? 1 : 0][int(k)]; }
     uint64_t contribution(StrategyKind k, bool equiAngular) const { return contributions[equiAngular ? 1 : 0][int(k)]; }
@@ -54,7 +58,7 @@ struct PathCounts {
         n = 0;
         forEach([&](uint64_t& v) { v += *from[n++]; });
     }
-    static constexpr int kCount = 2 * kStrategyKinds + 2 + 2 * (kStrategyKinds - 1) + 8;
+    static constexpr int kCount = 2 * kStrategyKinds + 2 + 2 * (kStrategyKinds - 1) + 2 + 8;
 
 private:
     template <class Self, class F>
@@ -65,6 +69,7 @@ private:
         f(s.bdpt.lightWalkRays);
         for (int k = 1; k < kStrategyKinds; ++k)
             for (auto& v : s.bdpt.connectionRays[k]) f(v);
+        for (auto& v : s.bdpt.replaceableRays) f(v);
         for (auto* v : {&s.pt.samples, &s.pt.walkRays, &s.pt.vertexRays, &s.pt.vertexCalls, &s.pt.segmentRays,
                         &s.pt.segmentCalls, &s.pt.solidAngleRays, &s.pt.solidAngleCalls})
             f(*v);
@@ -72,9 +77,9 @@ private:
 };
 
 // The efficiency-aware tracer's sums over its recording pixels (allocation_statistics.h): per
-// candidate allocation Σ w·F², and its probe of the path tracer, Σ w·L and Σ w·L².
+// candidate allocation Σ w·F² (with the products of a sample's contributions to one pixel), and its probe of the path tracer, Σ w·L and Σ w·L².
 struct AllocationMoments {
-    static constexpr int kCandidates = 22;
+    static constexpr int kCandidates = 32;
     double candidate[kCandidates] = {};
     double probeMean = 0, probe = 0;
 

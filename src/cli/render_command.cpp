@@ -33,6 +33,31 @@ namespace brume::cli {
 
 namespace {
 
+// --stats: each technique's share of the image and of the summed squares of its per-sample
+// contributions to a pixel (technique_sums.h). (The squares hold each pixel's squared mean
+// too: a share of them well above the share of the image marks a noisy technique; a nearly
+// exact one has about its share of the image squared, relative to the others.)
+std::string techniqueShares(const TechniqueSums& t) {
+    static const char* const kNames[TechniqueSums::kSlots] = {
+        "emitter hit",           "",  // (no equi-angular variant)
+        "light connection",      "light connection, equi-angular",
+        "camera connection",     "camera connection, equi-angular",
+        "general connection",    "general connection, equi-angular",
+        "path tracer: emitter hit", "path tracer: light connection at a vertex",
+        "path tracer: light connection on a segment", "path tracer: light connection by solid angle"};
+    double sum = 0, squares = 0;
+    for (int k = 0; k < TechniqueSums::kSlots; ++k) sum += t.sum[k], squares += t.squares[k];
+    if (!(sum > 0) || !(squares > 0)) return "";
+    std::string out = "  technique (share of the image, of the squares)\n";
+    for (int k = 0; k < TechniqueSums::kSlots; ++k) {
+        if (t.sum[k] == 0 && t.squares[k] == 0) continue;
+        char line[160];
+        std::snprintf(line, sizeof line, "  %-46s %6.4f %6.4f\n", kNames[k], t.sum[k] / sum, t.squares[k] / squares);
+        out += line;
+    }
+    return out;
+}
+
 // --stats: what a sample did, per part (the counters the duel's costs are counted from).
 std::string workPerSample(const std::string& integrator, const RenderStats& st) {
     const double n = double(std::max<uint64_t>(st.samples, 1));
@@ -54,7 +79,7 @@ std::string workPerSample(const std::string& integrator, const RenderStats& st) 
                       per(b.rays(StrategyKind::LightConnection, true)), per(b.rays(StrategyKind::CameraConnection, false)),
                       per(b.rays(StrategyKind::CameraConnection, true)), per(b.rays(StrategyKind::SubpathConnection, false)),
                       per(b.rays(StrategyKind::SubpathConnection, true)));
-    return buf;
+    return buf + techniqueShares(st.techniques);
 }
 
 
@@ -120,7 +145,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     app.add_flag_callback("--stats", [&] { a.stats = true; },
                           "auto: after the summary line, every candidate allocation's estimated relative variance, "
                           "cost and efficiency, and the duel's measurements; bdpt (and auto in single scattering): light "
-                          "tracing's learned share of one-scattering paths; every integrator: the work per sample by part");
+                          "tracing's learned share of one-scattering paths; every integrator: the work per sample by part, and each "
+                          "technique's share of the image and of the squares of its contributions to a pixel");
     addOption(app, "--mis", "HEURISTIC", "bdpt: power (the default) or balance", [&](const std::string& v) {
         if (v == "power") a.heuristic = MisHeuristic::Power;
         else if (v == "balance") a.heuristic = MisHeuristic::Balance;

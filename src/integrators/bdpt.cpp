@@ -210,9 +210,10 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     Spectrum directCamera(0.0f);
     const bool learning = learningDirect_ && weighted;
     if (learning) direct_->ensureImages(width, height);
+    TechniqueSample techniques;
     const StrategyContext c{scene,  options_, mis,   camera, nCamera, light, nLight, weighted,
                             sampler, stats,   width, height, collect ? &records : nullptr,
-                            learning ? direct_.get() : nullptr, &directCamera};
+                            learning ? direct_.get() : nullptr, &directCamera, &techniques};
 
     Spectrum L(0.0f);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
@@ -245,13 +246,16 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
         }
     }
     if (learning) direct_->addCamera(std::min(px, width - 1), std::min(py, height - 1), directCamera);
+    techniques.addTo(stats.techniques);
     if (collect) {
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
                           ox, oy, stats.moments);
         // In coloured media and where the path tracer has strategies of its own, its probe:
         // one sample of its own, kept out of the image (allocation_planner.h).
+        const TechniqueSums kept = stats.techniques;  // (the probe is not in the image)
         const Spectrum probe = planner_->pathTracerProbe() ? pathTracer_.sample(scene, fx, fy, width, height, sampler, stats) : Spectrum(0.0f);
+        stats.techniques = kept;
         const float* w = planner_->weights().at(ox, oy);
         if (isFinite(probe))
             for (int ch = 0; ch < 3; ++ch) {

@@ -145,9 +145,13 @@ bool swapInEquiAngular(const StrategyContext& c, PathVertex* path, int i, const 
     return equiAngularVertex(c.scene, edge, path[i - 1], towardsPrevious(path, i - 1), aim, c.mis, u, &path[i], density);
 }
 
-// A nonzero weighted estimate of a strategy, counted for the pass statistics.
+// A weighted estimate of a strategy, counted for the pass statistics.
 Spectrum counted(const StrategyContext& c, StrategyKind kind, bool equiAngular, Spectrum value) {
     if (!isBlack(value)) ++c.stats.counts.bdpt.contribution(kind, equiAngular);
+    // (--stats: a camera connection's splat is its whole share of the pixel it lands in; the
+    // others add to the sample's own pixel.)
+    if (c.techniques && kind != StrategyKind::CameraConnection) c.techniques->add(techniqueSlot(kind, equiAngular), value);
+    else c.stats.techniques.addAlone(techniqueSlot(kind, equiAngular), value);
     return value;
 }
 

@@ -309,6 +309,12 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     bool prevInMedium = false;
     SolidAngleTables tables;       // of the piece being walked; prevTables: of prevOrigin's piece
     SolidAngleTables prevTables;
+    // What each technique adds to the pixel (--stats, technique_sums.h).
+    TechniqueSample techniques;
+    auto counted = [&](PathTracerTechnique t, const Spectrum& v) {
+        techniques.add(techniqueSlot(t), v);
+        return v;
+    };
 
     // With --max-depth m, as in the bidirectional tracer (docs/mis.md, "Passing through
     // media at the last event"): past the last event only an emitter hit could count, so the
@@ -345,13 +351,15 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
                 const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
-                L += beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables,
-                                              passing, stats);
+                L += counted(PathTracerTechnique::OnSegment,
+                             beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
+                                                      tables, passing, stats));
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
-                L += beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler, dim::solidAngleSegment(depth),
-                                             repeat, tables, stats);
+                L += counted(PathTracerTechnique::BySolidAngle,
+                             beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler,
+                                                     dim::solidAngleSegment(depth), repeat, tables, stats));
             }
 
             if (passing) {  // (above) weight T
@@ -383,7 +391,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.origin = &prevOrigin;
             if (nee) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
-                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+                L += counted(PathTracerTechnique::AtVertex,
+                             beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
             }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
@@ -414,7 +423,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                         w = powerHeuristic(prevPdf, pick * pL);
                     }
                 }
-                L += beta * Le * w;
+                L += counted(PathTracerTechnique::EmitterHit, beta * Le * w);
             }
             if (hit.sphereLight >= 0) break;  // sphere lights are opaque emitters
             if (++depth > maxDepth) break;
@@ -428,7 +437,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.ng = hit.ng;
             if (nee && !bsdf.isSpecular()) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
-                L += beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+                L += counted(PathTracerTechnique::AtVertex,
+                             beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
             }
 
             BsdfSample bs;
@@ -451,6 +461,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         }
     }
     ++stats.counts.pt.samples;
+    techniques.addTo(stats.techniques);
     stats.counts.pt.walkRays += (stats.rays - rays0) - (stats.counts.pt.connectionRays() - connections0);
     return L;
 }

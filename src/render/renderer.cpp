@@ -133,6 +133,7 @@ public:
             }
             stats.rays += summary.totals.rays;
             stats.counts.add(summary.totals.counts);
+            stats.techniques.add(summary.totals.techniques);
             summary.width = options_.width;
             summary.height = options_.height;
             summary.radiance = radiance_.data();

@@ -39,6 +39,8 @@ struct StrategyContext {
     // the camera side's summed into *directCamera, which the sample hands over).
     DirectLightTracing* direct = nullptr;
     Spectrum* directCamera = nullptr;
+    // What each technique adds to the sample's own pixel (--stats, technique_sums.h).
+    TechniqueSample* techniques = nullptr;
 };
 
 Spectrum emitterHit(const StrategyContext& c, int t);

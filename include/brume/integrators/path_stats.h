@@ -5,11 +5,17 @@
 #include <cstdint>
 #include <initializer_list>
 
+#include "brume/integrators/technique_sums.h"
+
 namespace brume {
 
 // The bidirectional tracer's kinds of strategy (bdpt_strategies.h).
 enum class StrategyKind : int { EmitterHit, LightConnection, CameraConnection, SubpathConnection };
 constexpr int kStrategyKinds = 4;
+// Its technique slots in TechniqueSums: 2·kind + [equi-angular variant].
+constexpr int techniqueSlot(StrategyKind kind, bool equiAngular) { return 2 * int(kind) + (equiAngular ? 1 : 0); }
+static_assert(2 * kStrategyKinds <= techniqueSlot(PathTracerTechnique::EmitterHit), "a slot per kind and variant");
+
 
 // The bidirectional tracer's counts: contributions (nonzero weighted estimates) by kind and
 // variant, and the rays each part of a sample traced (the cost model of the efficiency-aware
@@ -101,10 +107,12 @@ struct PathStats {
     uint64_t rays = 0;  // closest-hit and shadow rays traced
     PathCounts counts;
     AllocationMoments moments;
+    TechniqueSums techniques;
     void add(const PathStats& o) {
         rays += o.rays;
         counts.add(o.counts);
         moments.add(o.moments);
+        techniques.add(o.techniques);
     }
 };
 

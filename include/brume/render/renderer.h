@@ -41,6 +41,7 @@ struct RenderStats {
     uint64_t samples = 0;    // pixel samples of those passes, non-finite ones included
     uint64_t rays = 0;       // as counted by the integrator (PathStats::rays), same passes
     PathCounts counts;       // the integrator's own (PathStats), same passes
+    TechniqueSums techniques;  // each technique's share of the image and its squares (--stats)
     uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
 };
 

@@ -387,13 +387,13 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP3", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
+// State: "BAP4", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
 // passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP3";
+    std::string out = "BAP4";
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
     putBytes(out, int32_t(duelists_[0]));
@@ -403,8 +403,7 @@ std::string AllocationPlanner::saveState() const {
     putBytes(out, int32_t(width_));
     putBytes(out, int32_t(height_));
     putBytes(out, samples_);
-    AllocationMoments moments = moments_;  // (forEach visits for writing)
-    moments.forEach([&](double m) { putBytes(out, m); });
+    moments_.forEach([&](double m) { putBytes(out, m); });
     counts_.forEach([&](uint64_t c) { putBytes(out, c); });
     putVector(out, sum_);
     putVector(out, sumSq_);
@@ -416,7 +415,7 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP3") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP4") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const int pilotChoice = r.get<int32_t>(), chosen = r.get<int32_t>();
     const int duelist0 = r.get<int32_t>(), duelist1 = r.get<int32_t>();

@@ -95,6 +95,12 @@ struct AllocationMoments {
         f(probeMean);
         f(probe);
     }
+    template <class F>
+    void forEach(F&& f) const {
+        for (const double& v : candidate) f(v);
+        f(probeMean);
+        f(probe);
+    }
     static constexpr int kCount = kCandidates + 2;
     void add(const AllocationMoments& o) {
         for (int j = 0; j < kCandidates; ++j) candidate[j] += o.candidate[j];

@@ -123,32 +123,34 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         }
     }
     pairRectangles(desc_, lights_, firstTriangleLight_);
+    // The emitter record (light.h): the triangle's shape, its material's sides.
     for (Light& l : lights_) {
         if (!l.isPlanar()) continue;
-        // The emitter record (light.h): the triangle's shape, its material's sides.
-        {
-            const Mesh& mesh = desc_.meshes[size_t(l.mesh)];
-            const uint32_t* idx = &mesh.indices[3 * size_t(l.triangle)];
-            EmitterTriangle& t = l.shape;
-            t.p0 = mesh.positions[idx[0]], t.p1 = mesh.positions[idx[1]], t.p2 = mesh.positions[idx[2]];
-            const Vec3 c = t.edgeCross();
-            const float len = length(c);
-            t.area = 0.5f * len;
-            t.n = len > 0 ? c / len : Vec3(0, 0, 1);
-            l.doubleSided = desc_.materials[size_t(mesh.material)].doubleSided;
-        }
-        // In the order of the halves' numbers: the same bits from either half of a rectangle.
         const Mesh& mesh = desc_.meshes[size_t(l.mesh)];
+        const uint32_t* idx = &mesh.indices[3 * size_t(l.triangle)];
+        EmitterTriangle& t = l.shape;
+        t.p0 = mesh.positions[idx[0]], t.p1 = mesh.positions[idx[1]], t.p2 = mesh.positions[idx[2]];
+        const Vec3 c = t.edgeCross();
+        const float len = length(c);
+        t.area = 0.5f * len;
+        t.n = len > 0 ? c / len : Vec3(0, 0, 1);
+        l.doubleSided = desc_.materials[size_t(mesh.material)].doubleSided;
+    }
+    // The whole emitter's centre and area (a rectangle's two halves), in the order of the
+    // halves' numbers: the same bits from either half.
+    for (Light& l : lights_) {
+        if (!l.isPlanar()) continue;
+        const EmitterTriangle* halves[2] = {&l.shape, nullptr};
+        if (l.partner >= 0) {
+            halves[1] = &partnerOf(l).shape;
+            if (l.partner < l.triangle) std::swap(halves[0], halves[1]);
+        }
         Vec3 sum(0.0f);
         float total = 0;
-        const int first = l.partner >= 0 ? std::min(l.triangle, l.partner) : l.triangle;
-        for (int t : {first, l.partner >= 0 ? std::max(l.triangle, l.partner) : -1}) {
-            if (t < 0) continue;
-            const uint32_t* idx = &mesh.indices[3 * t];
-            const Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
-            const float a = 0.5f * length(cross(p1 - p0, p2 - p0));
-            sum += (p0 + p1 + p2) * (a / 3.0f);
-            total += a;
+        for (const EmitterTriangle* t : halves) {
+            if (!t) continue;
+            sum += (t->p0 + t->p1 + t->p2) * (t->area / 3.0f);
+            total += t->area;
         }
         l.emitterCentre = total > 0 ? sum / total : sum;
         l.emitterArea = total;

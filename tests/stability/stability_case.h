@@ -104,12 +104,8 @@ inline std::vector<bool> pointLikeLightBlocks(const Scene& scene) {
     };
     for (const Light& l : scene.lights()) {
         if (l.kind == LightKind::Point || l.kind == LightKind::Spot) maskPoint(l.position);
-        if (l.kind != LightKind::Triangle) continue;
-        const Mesh& mesh = scene.mesh(l.mesh);
-        const uint32_t* idx = &mesh.indices[3 * size_t(l.triangle)];
-        Vec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
-        if (0.5f * length(cross(p1 - p0, p2 - p0)) < 1e-6f)
-            for (Vec3 p : {p0, p1, p2}) maskPoint(p);
+        if (l.kind == LightKind::Triangle && l.shape.area < 1e-6f)
+            for (Vec3 p : {l.shape.p0, l.shape.p1, l.shape.p2}) maskPoint(p);
     }
     return mask;
 }

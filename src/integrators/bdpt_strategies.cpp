@@ -201,7 +201,7 @@ int record(const StrategyContext& c, const PathVertex* lightVertex, int s, int t
 }
 
 // Marks the free-flight variant's record (index, −1: none) as one an ea-only allocation would
-// not make (allocation_statistics.h).
+// not make (allocation_statistics.h), where its vertex is `replaceable`.
 void markReplaceable(const StrategyContext& c, int recorded, bool replaceable) {
     if (c.records && recorded >= 0 && replaceable) (*c.records)[size_t(recorded)].replaceable = true;
 }
@@ -258,7 +258,7 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     const bool ffOn = freeFlightVariantOn(c.mis, t <= c.nCamera, c.camera[t - 1], eaOn);
     const bool replaceable = replaceableByEquiAngular(c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
-    int recorded[2] = {-1, -1};
+    int recordedFreeFlight = -1;  // its record's index (statistics)
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
@@ -299,12 +299,13 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
             PathVertex y0 = makeLightVertex(scene, yi, scene.lightDistribution().pmf(yi), p, n, pos);
             const StrategyJoin join = joinOf(conn, ea, pea);
             w = weigh(c, &y0, 1, t, join);
-            recorded[variant] = record(c, &y0, 1, t, join, contrib);
+            const int r = record(c, &y0, 1, t, join, contrib);
+            if (!ea) recordedFreeFlight = r;
             learnDirect(c, &y0, 1, t, join, contrib);
         }
         if (std::isfinite(w)) L += counted(c, StrategyKind::LightConnection, ea, contrib * w);
     }
-    markReplaceable(c, recorded[0], replaceable);
+    markReplaceable(c, recordedFreeFlight, replaceable);
     return L;
 }
 
@@ -319,7 +320,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
     const bool ffOn = real && (edge.kind == VertexKind::Light || scatters(edge)) && !(s == 1 && edge.deltaLight) &&
                       !replacedByEquiAngular(c.mis, edge, eaOn);
     const bool replaceable = replaceableByEquiAngular(edge, eaOn);
-    int recorded[2] = {-1, -1};
+    int recordedFreeFlight = -1;  // its record's index (statistics)
     for (int variant = 0; variant < 2; ++variant) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
@@ -350,14 +351,15 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         if (isBlack(value)) continue;
         const StrategyJoin join = joinOf(conn, ea, pea);
         float w = weigh(c, c.light, s, 1, join);
-        recorded[variant] = record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
+        const int r = record(c, nullptr, s, 1, join, value, int(cc.fx), int(cc.fy));
+        if (!ea) recordedFreeFlight = r;
         learnDirect(c, c.light, s, 1, join, value, cc.fx, cc.fy);
         // (Made cameraConnection ≤ 1 times per sample on average: counted 1/that.)
         if (std::isfinite(w))
             splats.splat(cc.fx, cc.fy, counted(c, StrategyKind::CameraConnection, ea, value * (w / float(c.mis.cameraConnection))),
                          c.width, c.height);
     }
-    markReplaceable(c, recorded[0], replaceable);
+    markReplaceable(c, recordedFreeFlight, replaceable);
 }
 
 Spectrum subpathConnection(const StrategyContext& c, int s, int t) {

@@ -3,7 +3,7 @@
 # and of the layers below it, never above. Prints every include that runs back up.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-layers=(math sampling scene integrators film render cli)
+layers=(math sampling guiding scene integrators film render cli)
 rank() { for i in "${!layers[@]}"; do [ "${layers[$i]}" = "$1" ] && echo "$i" && return; done; echo -1; }
 bad=0
 while IFS= read -r line; do

@@ -96,6 +96,7 @@ struct RenderArgs {
     bool maxDepthGiven = false;
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
+    bool guiding = false;    // --guiding on (pt)
     EmitterSampling emitters = EmitterSampling::SolidAngle;
     MisHeuristic heuristic = MisHeuristic::Power;
     std::string strategyDir;
@@ -197,6 +198,14 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.sampler = parseSamplerKind("--sampler", v); });
     addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
               [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
+    addOption(app, "--guiding", "on|off",
+              "pt: path guiding, directions at medium vertices drawn from a radiance field learned in the first "
+              "16 passes, combined with phase sampling (docs/path-guiding.md); off by default",
+              [&](const std::string& v) {
+                  if (v == "on") a.guiding = true;
+                  else if (v == "off") a.guiding = false;
+                  else throw UsageError("--guiding: expected on or off, got '" + v + "'");
+              });
     addOption(app, "--checkpoint", "FILE",
               "save the render's state to FILE every --checkpoint-every seconds and when interrupted "
               "(written beside FILE and renamed into place; removed once the image is complete); needs --spp",
@@ -230,6 +239,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
             throw UsageError("--allocation: unknown allocation '" + a.allocation + "' (available: " + names + ")");
         }
     }
+    if (a.guiding && a.integrator != "pt") throw UsageError("--guiding on needs --integrator pt");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
@@ -332,6 +342,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
             {"--connect", connectName(a.connect)},
             {"--emitter-sampling", emitterSamplingName(a.emitters)},
             {"--max-depth", std::to_string(a.maxDepth)},
+            {"--guiding", a.guiding ? "on" : "off"},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
 }
@@ -411,6 +422,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.connect = a.connect;
     method.maxDepth = a.maxDepth;
     method.nextEventEstimation = a.nee;
+    method.guiding = a.guiding;
     method.heuristic = a.heuristic;
     if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
     return method;
@@ -433,7 +445,7 @@ BdptOptions strategyOptions(BdptOptions o, const AllocationPlanner* planner, con
 // speed and the load balance.
 void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, const Film& film, const RenderStats& stats,
                   uint64_t nonFinite, const AllocationPlanner* planner, const DirectLightTracing* direct,
-                  const DistributedResult& shared) {
+                  const PathGuide* guide, const DistributedResult& shared) {
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
     std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite, peak %.0f MiB\n",
                 a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
@@ -441,6 +453,7 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
+    if (a.stats && guide) std::printf("%s", guide->report().text().c_str());
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
                     "camera side %.4g, light tracing %.4g)\n",
@@ -567,8 +580,10 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
         // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h).
         const bool learns = a.integrator == "bdpt" && static_cast<const BdptIntegrator&>(integrator).directLightTracing();
+        // So does the path tracer its guide's training passes (path_guide.h).
         plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1)
                         : learns                    ? std::max(donePasses, DirectLightTracing::kPasses)
+                        : a.guiding                 ? std::max(donePasses, PathGuide::kLastFitPass)
                                                     : donePasses;
         options.progress = false;
         auto interrupted = [&] {
@@ -619,10 +634,11 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;  // (null: bdpt)
     const DirectLightTracing* direct =
         a.integrator != "pt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
+    const PathGuide* guide = a.integrator == "pt" ? static_cast<const PathTracer&>(integrator).guide() : nullptr;
     if (!a.strategyDir.empty() && !gInterrupted.load())
         writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 
-    printSummary(a, group, res, film, stats, nonFinite, planner, direct, shared);
+    printSummary(a, group, res, film, stats, nonFinite, planner, direct, guide, shared);
     std::fflush(stdout);
     if (gInterrupted.load()) {
         std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));

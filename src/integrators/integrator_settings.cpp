@@ -15,6 +15,7 @@ PathTracerOptions pathTracerOptions(const IntegratorSettings& s) {
     o.maxDepth = s.maxDepth;
     o.nextEventEstimation = s.nextEventEstimation;
     o.connect = s.connect;
+    o.guiding = s.guiding;
     return o;
 }
 

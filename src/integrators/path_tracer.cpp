@@ -1,5 +1,6 @@
 #include "brume/integrators/path_tracer.h"
 
+#include "brume/guiding/guided_phase.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/light_numbers.h"
@@ -70,6 +71,7 @@ struct Vertex {
     const Bsdf* bsdf = nullptr;      // surface vertex
     Vec3 ng;                         // surface vertex: geometric normal
     const MediumOrigin* origin = nullptr;  // medium vertex
+    const GuidedPhase* guided = nullptr;   // medium vertex: its direction sampler
 
     Spectrum eval(Vec3 wi, float* pdf) const {
         if (bsdf) {
@@ -77,7 +79,7 @@ struct Vertex {
             return bsdf->eval(wo, wi);
         }
         float p = hgPhase(dot(-wo, wi), origin->seg.medium->g);
-        *pdf = p;
+        *pdf = guided ? guided->pdf(wi) : p;
         return Spectrum(p);
     }
 };
@@ -164,6 +166,15 @@ float powerWeight(double self, const StrategyDensities& p) {
     return float(1.0 / (1.0 + sum));
 }
 
+// The density with which the walk, had it scattered at x travelling along d, would have
+// continued along w: the guided mixture where the field guides (guided_phase.h), else the
+// phase function `phase` itself.
+float directionPdfAt(const GuidingField* field, Vec3 x, Vec3 d, float g, Vec3 w, float phase) {
+    if (!field) return phase;
+    const GuidedPhase gp = GuidedPhase::at(field, x, d, g);
+    return gp.share > 0 ? gp.pdf(w) : phase;
+}
+
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
                       const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats) {
@@ -207,7 +218,7 @@ Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumT
 // vertex on it and C stands alone, as in the equiangular and product modes.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                           SolidAngleTables& tables, bool passing, PathStats& stats) {
+                           SolidAngleTables& tables, bool passing, const GuidingField* field, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -237,7 +248,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
-    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, phase};
+    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
@@ -251,7 +262,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
 // from x(t) as in A (uniform in that solid angle).
 Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media, ConnectMode mode,
                           Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                          SolidAngleTables& tables, PathStats& stats) {
+                          SolidAngleTables& tables, const GuidingField* field, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -270,7 +281,7 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     const float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));
-    MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, phase};
+    MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.d = double(pick) * pOmega * ls.pdf;
     const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
     const float w = powerWeight(p.d, p);
@@ -311,6 +322,17 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     SolidAngleTables prevTables;
     // What each technique adds to the pixel (--stats, technique_sums.h).
     TechniqueSample techniques;
+    // Path guiding: the field this pass reads, and the walk's training records with the
+    // throughput after each recorded vertex and the radiance gathered before it (their
+    // difference, divided by the throughput, is the radiance that came back, path_guide.h).
+    const GuidingField* field = guide_ ? guide_->field() : nullptr;
+    const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
+                           uint32_t(std::min(std::max(int(fx), 0), width - 1));
+    const bool training = guide_ && guide_->records(pixel, width, height);
+    constexpr int kMaxRecords = 16;
+    GuideRecord records[kMaxRecords];
+    Spectrum recordBeta[kMaxRecords], recordL[kMaxRecords];
+    int recordCount = 0;
     auto counted = [&](PathTracerTechnique t, const Spectrum& v) {
         techniques.add(techniqueSlot(t), v);
         return v;
@@ -353,13 +375,13 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
                 L += counted(PathTracerTechnique::OnSegment,
                              beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
-                                                      tables, passing, stats));
+                                                      tables, passing, field, stats));
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
                 L += counted(PathTracerTechnique::BySolidAngle,
                              beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler,
-                                                     dim::solidAngleSegment(depth), repeat, tables, stats));
+                                                     dim::solidAngleSegment(depth), repeat, tables, field, stats));
             }
 
             if (passing) {  // (above) weight T
@@ -389,14 +411,28 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.p = prevOrigin.seg.o + prevOrigin.seg.d * prevOrigin.t;
             v.wo = -ray.d;
             v.origin = &prevOrigin;
+            const GuidedPhase guided = GuidedPhase::at(field, v.p, ray.d, m->g);
+            v.guided = guided.share > 0 ? &guided : nullptr;
             if (nee) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += counted(PathTracerTechnique::AtVertex,
                              beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
             }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
-            Vec3 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
-            prevPdf = hgPhase(dot(ray.d, wi), m->g);
+            Vec3 wi;
+            if (guided.share > 0) {  // weight phase / p, p the mixture (guided_phase.h); kLobe is free at medium vertices
+                wi = guided.sample(sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection));
+                prevPdf = guided.pdf(wi);
+                beta *= prevPdf > 0 ? hgPhase(dot(ray.d, wi), m->g) / prevPdf : 0.0f;
+            } else {
+                wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
+                prevPdf = hgPhase(dot(ray.d, wi), m->g);
+            }
+            if (training && recordCount < kMaxRecords) {
+                records[recordCount] = GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, pixel, uint32_t(depth)};
+                recordBeta[recordCount] = beta;
+                recordL[recordCount++] = L;
+            }
             prevP = v.p;
             prevInMedium = true;
             specularBounce = false;
@@ -459,6 +495,25 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }
+    }
+    if (recordCount > 0) {
+        // L_i(p, ω) = (L − L_before) / β_after per channel, their mean; records that saw no
+        // light teach nothing (guiding_field.h) and are not kept.
+        int kept = 0;
+        for (int i = 0; i < recordCount; ++i) {
+            double sum = 0;
+            int channels = 0;
+            for (int c = 0; c < 3; ++c)
+                if (recordBeta[i][c] > 0) {
+                    sum += (double(L[c]) - recordL[i][c]) / recordBeta[i][c];
+                    ++channels;
+                }
+            const float radiance = channels > 0 ? float(sum / channels) : 0.0f;
+            if (!(radiance > 0) || !std::isfinite(radiance)) continue;
+            records[kept] = records[i];
+            records[kept++].radiance = radiance;
+        }
+        if (kept > 0) guide_->add(records, kept);
     }
     ++stats.counts.pt.samples;
     techniques.addTo(stats.techniques);

@@ -4,7 +4,10 @@
 // connections on medium segments (`--connect`). It is the reference every other method is
 // tested against.
 #pragma once
+#include <memory>
+
 #include "brume/integrators/integrator.h"
+#include "brume/integrators/path_guide.h"
 
 namespace brume {
 
@@ -31,16 +34,36 @@ struct PathTracerOptions {
     int maxDepth = -1;                // most scattering events on a path; −1 = unlimited
     bool nextEventEstimation = true;  // false: pure BSDF/phase sampling (for the tests)
     ConnectMode connect = ConnectMode::Mis;
+    // Path guiding (`--guiding on`, docs/path-guiding.md): directions at medium vertices
+    // from a field learned in the first passes, MIS-combined with phase sampling.
+    bool guiding = false;
+    float guideShare = -1;  // ≥ 0: the guided share α in every cell, not learned (tests)
 };
 
 class PathTracer : public Integrator {
 public:
-    explicit PathTracer(PathTracerOptions options) : options_(options) {}
+    explicit PathTracer(PathTracerOptions options)
+        : options_(options), guide_(options.guiding ? std::make_unique<PathGuide>(guideSettings(options)) : nullptr) {}
     Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                     PathStats& stats) const override;
+    void endPass(const Scene& scene, const PassSummary& summary) override {
+        if (guide_) guide_->endPass(summary);
+    }
+    std::string saveState() const override { return guide_ ? guide_->saveState() : std::string(); }
+    void loadState(const std::string& state) override {
+        if (guide_) guide_->loadState(state);
+    }
+    // The guide's cache (null without guiding), for --stats.
+    const PathGuide* guide() const { return guide_.get(); }
 
 private:
+    static GuidingSettings guideSettings(const PathTracerOptions& o) {
+        GuidingSettings s;
+        s.fixedShare = o.guideShare;
+        return s;
+    }
     PathTracerOptions options_;
+    std::unique_ptr<PathGuide> guide_;
 };
 
 }  // namespace brume

@@ -1,0 +1,68 @@
+// The spatio-directional radiance cache of path guiding (docs/path-guiding.md): a kd-tree
+// over the medium vertices of training paths, split at the middle of the longest side
+// while a cell holds more than maxRecords records, with per leaf
+//   - a vMF mixture fitted to the incident radiance (vmf_fit.h, weights L / p), and
+//   - the share α of guided directions, chosen among a few values by the second moment
+//     the records predict for it:  M(α) = Σ_j (f_j L_j)² / (p_α(ω_j) · p_j),
+//     f_j the phase, p_j the density ω_j was drawn with, p_α the guided mixture with the
+//     new fit (guided_phase.h). α = 0 where guiding would not lower it by a tenth (the
+//     extra cost of a guided vertex).
+// Built from scratch from a list of records; deterministic in their order.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "brume/guiding/guide_record.h"
+#include "brume/sampling/vmf.h"
+
+namespace brume {
+
+struct GuidingCell {
+    VmfMixture radiance;
+    float share = 0;  // α
+    uint32_t records = 0;
+};
+
+struct GuidingSettings {
+    int maxRecords = 2048;  // per leaf, before it splits
+    int minRecords = 64;    // records with radiance a leaf needs to guide at all
+    int lobes = 6;
+    int iterations = 8;     // EM steps
+    int threads = 0;        // fitting leaves in parallel (0: all cores); no effect on the result
+    float fixedShare = -1;  // ≥ 0: every fitted leaf guides with this α (tests: guiding forced on)
+};
+
+class GuidingField {
+public:
+    struct Node {
+        float split = 0;
+        uint32_t axis = 3;   // 0..2; 3: a leaf
+        uint32_t index = 0;  // inner: left child (right = index + 1); leaf: cell, or kNoCell
+    };
+    static constexpr uint32_t kNoCell = ~0u;
+
+    // Reorders `records` (grouped by leaf).
+    void build(std::vector<GuideRecord>& records, const GuidingSettings& settings);
+    // The cell at p, or null (outside the tree, or a leaf that does not guide).
+    const GuidingCell* lookup(Vec3 p) const;
+
+    bool empty() const { return nodes_.empty(); }
+    size_t leaves() const;
+    size_t guidingCells() const { return cells_.size(); }
+    size_t memoryBytes() const { return nodes_.size() * sizeof(Node) + cells_.size() * sizeof(GuidingCell); }
+
+    // Its parts, for a checkpoint, and back.
+    Vec3 lower() const { return lo_; }
+    Vec3 upper() const { return hi_; }
+    const std::vector<Node>& nodes() const { return nodes_; }
+    const std::vector<GuidingCell>& cells() const { return cells_; }
+    // Throws std::runtime_error when the parts do not form a tree.
+    void assign(Vec3 lo, Vec3 hi, std::vector<Node> nodes, std::vector<GuidingCell> cells);
+
+private:
+    Vec3 lo_, hi_;
+    std::vector<Node> nodes_;
+    std::vector<GuidingCell> cells_;
+};
+
+}  // namespace brume

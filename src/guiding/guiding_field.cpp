@@ -1,0 +1,170 @@
+#include "brume/guiding/guiding_field.h"
+
+#include <algorithm>
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+
+#include "brume/guiding/vmf_fit.h"
+#include "brume/sampling/hg.h"
+
+namespace brume {
+
+namespace {
+
+constexpr int kMaxDepth = 40;
+// The shares α a cell may choose; at most 0.9, so phase sampling always keeps a tenth and a
+// poor fit costs at most a factor 10 in density (defensive mixture).
+constexpr float kShares[] = {0.0f, 0.25f, 0.5f, 0.75f, 0.9f};
+constexpr int kShareCount = int(sizeof kShares / sizeof kShares[0]);
+constexpr double kGuidingCost = 0.1;
+
+struct Range {
+    size_t begin, end;
+};
+
+// A leaf's cell from its records, or false if it should not guide.
+bool fitCell(const GuideRecord* r, size_t n, const GuidingSettings& s, GuidingCell* cell) {
+    std::vector<WeightedDirection> samples;
+    samples.reserve(n);
+    for (size_t j = 0; j < n; ++j)
+        if (r[j].radiance > 0 && r[j].pdf > 0) samples.push_back({r[j].wi, r[j].radiance / r[j].pdf});
+    if (samples.size() < size_t(s.minRecords)) return false;
+    if (!fitVmfMixture(samples.data(), samples.size(), s.lobes, s.iterations, &cell->radiance)) return false;
+    cell->records = uint32_t(std::min<size_t>(n, ~0u));
+    if (s.fixedShare >= 0) {
+        cell->share = std::min(s.fixedShare, 1.0f);
+        return cell->share > 0;
+    }
+    // M(α) = Σ_j (f_j L_j)² / (p_α,j · p_j) (guiding_field.h).
+    double moment[kShareCount] = {};
+    for (size_t j = 0; j < n; ++j) {
+        if (!(r[j].radiance > 0 && r[j].pdf > 0)) continue;
+        const float phase = hgPhase(dot(r[j].wIn, r[j].wi), r[j].g);
+        VmfMixture product;
+        const float pGuide = vmfProduct(cell->radiance, hgAsVmf(r[j].wIn, r[j].g), &product) ? product.pdf(r[j].wi) : 0.0f;
+        const double f = double(phase) * r[j].radiance;
+        for (int k = 0; k < kShareCount; ++k) {
+            const double pAlpha = kShares[k] * double(pGuide) + (1.0 - kShares[k]) * phase;
+            moment[k] += f * f / (pAlpha * r[j].pdf);
+        }
+    }
+    // A guided vertex costs more than a phase-sampled one (a product of lobes, and the
+    // mixture's density again for every light connection near it): a share must lower the
+    // second moment by kGuidingCost to be taken.
+    int best = 0;
+    for (int k = 1; k < kShareCount; ++k)
+        if (moment[k] < moment[best] && moment[k] < (1.0 - kGuidingCost) * moment[0]) best = k;
+    cell->share = kShares[best];
+    return cell->share > 0;
+}
+
+}  // namespace
+
+void GuidingField::build(std::vector<GuideRecord>& records, const GuidingSettings& settings) {
+    nodes_.clear();
+    cells_.clear();
+    if (records.empty()) return;
+    lo_ = hi_ = records[0].p;
+    for (const GuideRecord& r : records) {
+        lo_ = vmin(lo_, r.p);
+        hi_ = vmax(hi_, r.p);
+    }
+    const Vec3 pad = (hi_ - lo_) * 1e-3f + Vec3(1e-4f);
+    lo_ = lo_ - pad;
+    hi_ = hi_ + pad;
+
+    // Split top-down; leaves are listed in the order they are made.
+    struct Task {
+        uint32_t node;
+        Range range;
+        Vec3 lo, hi;
+        int depth;
+    };
+    std::vector<Task> stack{{0, {0, records.size()}, lo_, hi_, 0}};
+    std::vector<std::pair<uint32_t, Range>> leaves;
+    nodes_.push_back(Node{});
+    while (!stack.empty()) {
+        const Task t = stack.back();
+        stack.pop_back();
+        if (t.range.end - t.range.begin <= size_t(settings.maxRecords) || t.depth >= kMaxDepth) {
+            leaves.push_back({t.node, t.range});
+            continue;
+        }
+        const Vec3 size = t.hi - t.lo;
+        const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+        const float split = 0.5f * (t.lo[axis] + t.hi[axis]);
+        auto mid = std::stable_partition(records.begin() + long(t.range.begin), records.begin() + long(t.range.end),
+                                         [&](const GuideRecord& r) { return r.p[axis] < split; });
+        const size_t m = size_t(mid - records.begin());
+        const uint32_t left = uint32_t(nodes_.size());
+        nodes_[t.node] = Node{split, uint32_t(axis), left};
+        nodes_.push_back(Node{});
+        nodes_.push_back(Node{});
+        Vec3 leftHi = t.hi, rightLo = t.lo;
+        leftHi[axis] = split;
+        rightLo[axis] = split;
+        stack.push_back({left + 1, {m, t.range.end}, rightLo, t.hi, t.depth + 1});
+        stack.push_back({left, {t.range.begin, m}, t.lo, leftHi, t.depth + 1});
+    }
+
+    // Leaves are fitted independently, in parallel; the result does not depend on who fits which.
+    std::vector<GuidingCell> fitted(leaves.size());
+    std::vector<char> guides(leaves.size(), 0);
+    std::atomic<size_t> next{0};
+    auto worker = [&] {
+        for (size_t i = next++; i < leaves.size(); i = next++) {
+            const Range r = leaves[i].second;
+            guides[i] = fitCell(records.data() + r.begin, r.end - r.begin, settings, &fitted[i]);
+        }
+    };
+    const unsigned threads = settings.threads > 0 ? unsigned(settings.threads) : std::max(1u, std::thread::hardware_concurrency());
+    std::vector<std::thread> pool;
+    for (unsigned i = 1; i < std::min<size_t>(threads, leaves.size()); ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    for (size_t i = 0; i < leaves.size(); ++i) {
+        Node& n = nodes_[leaves[i].first];
+        n.axis = 3;
+        n.index = kNoCell;
+        if (guides[i]) {
+            n.index = uint32_t(cells_.size());
+            cells_.push_back(fitted[i]);
+        }
+    }
+}
+
+const GuidingCell* GuidingField::lookup(Vec3 p) const {
+    if (nodes_.empty()) return nullptr;
+    if (!(p.x >= lo_.x && p.y >= lo_.y && p.z >= lo_.z && p.x <= hi_.x && p.y <= hi_.y && p.z <= hi_.z)) return nullptr;
+    uint32_t i = 0;
+    for (;;) {
+        const Node& n = nodes_[i];
+        if (n.axis == 3) return n.index == kNoCell ? nullptr : &cells_[n.index];
+        i = n.index + (p[int(n.axis)] >= n.split ? 1u : 0u);
+    }
+}
+
+size_t GuidingField::leaves() const {
+    size_t n = 0;
+    for (const Node& node : nodes_) n += node.axis == 3;
+    return n;
+}
+
+void GuidingField::assign(Vec3 lo, Vec3 hi, std::vector<Node> nodes, std::vector<GuidingCell> cells) {
+    // Every inner node's children come after it and inside the list; every leaf's cell exists.
+    for (size_t i = 0; i < nodes.size(); ++i) {
+        const Node& n = nodes[i];
+        const bool ok = n.axis == 3 ? (n.index == kNoCell || n.index < cells.size())
+                                    : (n.axis < 3 && n.index > i && size_t(n.index) + 1 < nodes.size());
+        if (!ok) throw std::runtime_error("guiding state is malformed");
+    }
+    for (const GuidingCell& c : cells)
+        if (c.radiance.count < 1 || c.radiance.count > VmfMixture::kMaxLobes) throw std::runtime_error("guiding state is malformed");
+    lo_ = lo;
+    hi_ = hi;
+    nodes_ = std::move(nodes);
+    cells_ = std::move(cells);
+}
+
+}  // namespace brume

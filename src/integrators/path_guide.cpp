@@ -1,0 +1,121 @@
+#include "brume/integrators/path_guide.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#include "brume/integrators/state_bytes.h"
+
+namespace brume {
+
+namespace {
+
+std::atomic<uint64_t> nextId{1};
+constexpr uint32_t kMagic = 0x47445031;  // "GDP1"
+
+struct ArenaCache {
+    uint64_t owner = 0;
+    void* arena = nullptr;
+};
+thread_local ArenaCache cache;
+
+}  // namespace
+
+PathGuide::PathGuide(GuidingSettings settings) : id_(nextId++), settings_(settings) {}
+
+PathGuide::Arena& PathGuide::arena() const {
+    if (cache.owner != id_) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        arenas_.push_back(std::make_unique<Arena>());
+        cache = ArenaCache{id_, arenas_.back().get()};
+    }
+    return *static_cast<Arena*>(cache.arena);
+}
+
+bool PathGuide::records(uint32_t pixel, int width, int height) const {
+    if (!training()) return false;
+    const uint64_t pixels = uint64_t(width) * uint64_t(height);
+    const uint64_t stride = (pixels + kRecordPixels - 1) / kRecordPixels;
+    return stride <= 1 || (uint64_t(pixel) * 2654435761u >> 7) % stride == 0;
+}
+
+void PathGuide::add(const GuideRecord* records, int count) const {
+    std::vector<GuideRecord>& list = arena().records;
+    list.insert(list.end(), records, records + count);
+}
+
+void PathGuide::endPass(const PassSummary& summary) {
+    std::vector<GuideRecord> pass;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& a : arenas_) {
+            if (summary.complete) pass.insert(pass.end(), a->records.begin(), a->records.end());
+            a->records.clear();
+        }
+    }
+    if (!summary.complete || !training()) return;
+    ++passes_;
+    std::sort(pass.begin(), pass.end(), [](const GuideRecord& a, const GuideRecord& b) {
+        return a.pixel != b.pixel ? a.pixel < b.pixel : a.vertex < b.vertex;
+    });
+    const size_t room = kMaxRecords - records_.size();
+    records_.insert(records_.end(), pass.begin(), pass.begin() + long(std::min(room, pass.size())));
+    const bool refit = (passes_ & (passes_ - 1)) == 0 || !training();  // 1, 2, 4, 8, 16, or full
+    if (!refit) return;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<GuideRecord> ordered = records_;  // build() reorders its input
+    field_.build(ordered, settings_);
+    ++fits_;
+    learnSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!training()) records_ = std::vector<GuideRecord>();  // frozen: the records are not needed again
+}
+
+std::string PathGuide::saveState() const {
+    std::string out;
+    putBytes(out, kMagic);
+    putBytes(out, int32_t(passes_));
+    putBytes(out, int32_t(fits_));
+    putVector(out, records_);
+    putBytes(out, field_.lower());
+    putBytes(out, field_.upper());
+    putVector(out, field_.nodes());
+    putVector(out, field_.cells());
+    return out;
+}
+
+void PathGuide::loadState(const std::string& state) {
+    StateReader in{state};
+    if (in.get<uint32_t>() != kMagic) throw std::runtime_error("guiding state is not this version's");
+    passes_ = in.get<int32_t>();
+    fits_ = in.get<int32_t>();
+    records_ = in.getVector<GuideRecord>(kMaxRecords);
+    const Vec3 lo = in.get<Vec3>(), hi = in.get<Vec3>();
+    auto nodes = in.getVector<GuidingField::Node>(size_t(1) << 26);
+    auto cells = in.getVector<GuidingCell>(size_t(1) << 26);
+    if (passes_ < 0 || in.at != state.size()) throw std::runtime_error("guiding state is malformed");
+    field_.assign(lo, hi, std::move(nodes), std::move(cells));
+}
+
+GuidingReport PathGuide::report() const {
+    GuidingReport r;
+    r.leaves = field_.leaves();
+    r.cells = field_.guidingCells();
+    r.records = records_.size();
+    r.fieldBytes = field_.memoryBytes();
+    r.recordBytes = records_.capacity() * sizeof(GuideRecord);
+    r.fits = fits_;
+    r.learnSeconds = learnSeconds_;
+    return r;
+}
+
+std::string GuidingReport::text() const {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "guiding: %zu leaves, %zu guiding cells, %.2f MiB field + %.2f MiB records; %d fits, %.2f s learning\n",
+                  leaves, cells, fieldBytes / 1048576.0, recordBytes / 1048576.0, fits, learnSeconds);
+    return line;
+}
+
+}  // namespace brume

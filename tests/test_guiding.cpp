@@ -1,0 +1,219 @@
+// Path guiding (docs/path-guiding.md) against the oracles: with guiding forced on (every
+// fitted cell guides with a fixed share) the path tracer still renders the furnace as 1 and
+// single scattering from area lights as quadrature does; with the learned share it agrees
+// with the unguided path tracer at full depth; the guided direction sampler passes a
+// chi-square test against its density; the share is learned (0 where the light is the same
+// from every direction); the same seed gives the same guide for any thread count.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "brume/film/film.h"
+#include "brume/guiding/guided_phase.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/render/renderer.h"
+#include "support/block_z.h"
+#include "support/film_estimates.h"
+#include "support/pixel_estimates.h"
+#include "support/single_scatter_reference.h"
+#include "support/test_support.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+// Renders the guide's 16 training passes (a W × H image), after which it is frozen; returns
+// the guide's report.
+GuidingReport train(const Scene& scene, PathTracer& pt, int W, int H, uint64_t seed = 3) {
+    Film film(W, H);
+    RenderOptions o;
+    o.width = W;
+    o.height = H;
+    o.spp = PathGuide::kLastFitPass;
+    o.seed = seed;
+    o.threads = 2;
+    render(scene, pt, o, film);
+    return pt.guide()->report();
+}
+
+PathTracerOptions guided(int maxDepth, ConnectMode mode, float share) {
+    PathTracerOptions o{maxDepth, true, mode};
+    o.guiding = true;
+    o.guideShare = share;
+    return o;
+}
+
+double worstPixelZ(const std::vector<PixelEstimate>& px, const std::function<Vec3(int)>& reference, std::string* where) {
+    double worst = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+        const Vec3 ref = reference(int(i));
+        for (int c = 0; c < 3; ++c) {
+            const double se = px[i].stderror(c), diff = std::abs(px[i].mean(c) - ref[c]);
+            const double z = se > 0 ? diff / se : (diff > 1e-5 * std::max(1.0, double(std::abs(ref[c]))) ? 1e9 : 0.0);
+            if (z > worst) {
+                worst = z;
+                *where = "pixel " + std::to_string(i) + " channel " + std::to_string(c) + ": " + std::to_string(px[i].mean(c)) +
+                         " ± " + std::to_string(se) + " vs " + std::to_string(ref[c]);
+            }
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("guided directions: the sampler follows its density (chi-square)", "[guiding][chi2]") {
+    VmfMixture radiance;
+    radiance.count = 3;
+    const float weights[3] = {0.5f, 0.3f, 0.2f};
+    const Vec3 axes[3] = {normalize(Vec3(1, 0.2f, 0.1f)), normalize(Vec3(-0.3f, 1, 0.4f)), Vec3(0, 0, -1)};
+    const float kappas[3] = {20.0f, 4.0f, 0.5f};
+    for (int i = 0; i < 3; ++i) {
+        radiance.weight[i] = weights[i];
+        radiance.lobe[i].mu = axes[i];
+        radiance.lobe[i].kappa = kappas[i];
+    }
+    radiance.prepare();
+    const double alpha = 0.01 / 3;  // three cases, Bonferroni
+    for (float g : {0.0f, 0.7f, -0.4f}) {
+        GuidedPhase gp;
+        gp.d = normalize(Vec3(0.2f, -0.5f, 1.0f));
+        gp.g = g;
+        gp.share = 0.6f;
+        REQUIRE(vmfProduct(radiance, hgAsVmf(gp.d, g), &gp.product));
+        std::mt19937_64 rng(7);
+        std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+        const HistogramResult r = sphereHistogramTest(
+            [&](Sample2 u) -> std::optional<Vec3> { return gp.sample(uniform(rng), u); },
+            [&](Vec3 w) { return double(gp.pdf(w)); }, 24, 24, 1000000);
+        INFO("g = " << g << "\n" << r.chi2.table);
+        CHECK(r.invalid == 0);
+        CHECK(r.pdfIntegral == Approx(1.0).epsilon(2e-3));
+        CHECK(r.chi2.pValue > alpha);
+        // Power: the phase function's density alone (what an unguided tracer would divide by) fails.
+        const HistogramResult wrong = sphereHistogramTest(
+            [&](Sample2 u) -> std::optional<Vec3> { return gp.sample(uniform(rng), u); },
+            [&](Vec3 w) { return double(hgPhase(dot(gp.d, w), g)); }, 24, 24, 200000);
+        CHECK(wrong.chi2.pValue < 1e-6);
+    }
+}
+
+TEST_CASE("guided pt, guiding forced on: furnace pixels are 1", "[guiding][oracle]") {
+    for (const char* file : {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"}) {
+        auto scene = loadTestScene(file);
+        for (ConnectMode mode : kConnectModes) {
+            PathTracer pt(guided(-1, mode, 0.75f));
+            const GuidingReport report = train(*scene, pt, 48, 48);
+            INFO(file << " " << connectModeName(mode) << ": " << report.text());
+            REQUIRE(report.cells > 0);  // guiding is on somewhere
+            auto px = estimatePixels(*scene, pt, 8, 8, 256, 17);
+            std::string where;
+            const double z = worstPixelZ(px, [](int) { return Vec3(1.0f); }, &where);
+            INFO(where << " (z = " << z << ")");
+            CHECK(z < zBound(3 * 64));
+        }
+    }
+}
+
+TEST_CASE("guided pt, guiding forced on: single scattering from area lights matches quadrature", "[guiding][oracle]") {
+    const int W = 8, H = 8;
+    const double yfov = kYfov;
+    struct Case {
+        const char* file;
+        bool sphere;
+    };
+    for (const Case c : {Case{"area_sphere.gltf", true}, Case{"area_quad.gltf", false}}) {
+        auto scene = loadTestScene(c.file);
+        std::vector<double> ref(W * H);
+        for (int i = 0; i < W * H; ++i) {
+            const Vec3 d = referenceCameraDirection(i % W, i / W, W, H, yfov);
+            ref[size_t(i)] = c.sphere ? sphereReference(d, Vec3(0.8f, 0.5f, -3), 0.3, 10.0)
+                                     : quadReference(d, Vec3(0, 2, -3), Vec3(0.5f, 0, 0), Vec3(0, 0, 0.5f), Vec3(0, -1, 0), 5.0);
+        }
+        for (ConnectMode mode : kConnectModes) {
+            PathTracer pt(guided(1, mode, 0.75f));
+            const GuidingReport report = train(*scene, pt, 48, 48);
+            INFO(c.file << " " << connectModeName(mode) << ": " << report.text());
+            REQUIRE(report.cells > 0);
+            auto px = estimatePixels(*scene, pt, W, H, 4096, 11);
+            std::string where;
+            const double z = worstPixelZ(px, [&](int i) { return Vec3(float(ref[size_t(i)])); }, &where);
+            INFO(where << " (z = " << z << ")");
+            CHECK(z < zBound(3 * W * H));
+        }
+    }
+}
+
+TEST_CASE("guided pt with the learned share agrees with pt at full depth", "[guiding]") {
+    // Blocks of 2×2 pixels, 16 batches each; the guided tracer after its training passes.
+    for (const char* file : {"bdpt_window_fog.gltf", "quad_light_fog.gltf"}) {
+        auto scene = loadTestScene(file);
+        const int W = 16;
+        PathTracer plain(PathTracerOptions{-1, true, ConnectMode::Mis});
+        PathTracer pt(guided(-1, ConnectMode::Mis, -1.0f));
+        const GuidingReport report = train(*scene, pt, 64, 64);
+        INFO(file << ": " << report.text());
+        REQUIRE(report.cells > 0);
+        auto a = estimateFilm(*scene, plain, W, W, 64, 16, 1, 2);
+        auto b = estimateFilm(*scene, pt, W, W, 64, 16, 2, 2);
+        double worst = 0;
+        std::string where;
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
+                const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
+                if (z > worst) {
+                    worst = z;
+                    where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " +
+                            std::to_string(a[i].mean(c)) + " guided " + std::to_string(b[i].mean(c));
+                }
+            }
+        INFO(where << " (z = " << worst << ")");
+        CHECK(worst < zBound(3 * int(a.size())));
+    }
+}
+
+TEST_CASE("the guided share is learned: none where light comes equally from everywhere", "[guiding]") {
+    // In the furnace the incident radiance is 1 in every direction: guiding cannot lower the
+    // variance, and no cell may choose to guide. Behind a window (light from one side) most do.
+    auto furnace = loadTestScene("furnace_ambient.gltf");
+    PathTracer flat(guided(-1, ConnectMode::Mis, -1.0f));
+    const GuidingReport f = train(*furnace, flat, 32, 32);
+    INFO("furnace: " << f.text());
+    CHECK(f.leaves > 4);
+    CHECK(f.cells * 10 <= f.leaves);
+    auto window = loadTestScene("bdpt_window_fog.gltf");
+    PathTracer lit(guided(-1, ConnectMode::Mis, -1.0f));
+    const GuidingReport w = train(*window, lit, 64, 64);
+    INFO("window: " << w.text());
+    CHECK(w.cells * 2 > w.leaves);
+}
+
+TEST_CASE("guided pt: the same seed gives the same image for any thread count, and after a resume", "[guiding]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    auto renderWith = [&](int threads, int stopAt, bool resume) {
+        PathTracer pt(guided(-1, ConnectMode::Mis, -1.0f));
+        Film film(24, 16);
+        RenderOptions o;
+        o.width = 24;
+        o.height = 16;
+        o.seed = 5;
+        o.threads = threads;
+        o.spp = stopAt;
+        render(*scene, pt, o, film);
+        if (resume) {  // a fresh integrator from the saved state, as --resume does
+            PathTracer again(guided(-1, ConnectMode::Mis, -1.0f));
+            again.loadState(pt.saveState());
+            o.spp = 24 - stopAt;
+            render(*scene, again, o, film);
+        }
+        return film.rgb();
+    };
+    const std::vector<float> one = renderWith(1, 24, false);
+    CHECK(renderWith(2, 24, false) == one);
+    CHECK(renderWith(3, 24, false) == one);
+    CHECK(renderWith(2, 5, true) == one);   // mid-training (after the fit at 4)
+    CHECK(renderWith(2, 16, true) == one);  // frozen
+}

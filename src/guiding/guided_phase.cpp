@@ -8,8 +8,8 @@ GuidedPhase GuidedPhase::at(const GuidingField* field, Vec3 p, Vec3 d, float g) 
     gp.g = g;
     if (!field) return gp;
     const GuidingCell* cell = field->lookup(p);
-    if (!cell || !(cell->share > 0)) return gp;
-    if (vmfProduct(cell->radiance, hgAsVmf(d, g), &gp.product)) gp.share = cell->share;
+    if (!cell || !(cell->share > 0)) return gp;  // (a cell may guide surface vertices only)
+    if (vmfProduct(cell->medium, hgAsVmf(d, g), &gp.product)) gp.share = cell->share;
     return gp;
 }
 

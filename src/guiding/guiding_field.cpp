@@ -23,40 +23,56 @@ struct Range {
     size_t begin, end;
 };
 
-// A leaf's cell from its records, or false if it should not guide.
-bool fitCell(const GuideRecord* r, size_t n, const GuidingSettings& s, GuidingCell* cell) {
+// One kind of vertex (medium or surface) of a leaf: its mixture and share, from the leaf's
+// records of that kind. False if it should not guide.
+bool fitKind(const GuideRecord* r, size_t n, bool surface, const GuidingSettings& s, VmfMixture* mixture,
+             float* share) {
     std::vector<WeightedDirection> samples;
     samples.reserve(n);
     for (size_t j = 0; j < n; ++j)
-        if (r[j].radiance > 0 && r[j].pdf > 0) samples.push_back({r[j].wi, r[j].radiance / r[j].pdf});
+        if (bool(r[j].surface) == surface && r[j].radiance > 0 && r[j].pdf > 0)
+            samples.push_back({r[j].wi, r[j].radiance / r[j].pdf});
     if (samples.size() < size_t(s.minRecords)) return false;
-    if (!fitVmfMixture(samples.data(), samples.size(), s.lobes, s.iterations, &cell->radiance)) return false;
-    cell->records = uint32_t(std::min<size_t>(n, ~0u));
+    if (!fitVmfMixture(samples.data(), samples.size(), s.lobes, s.iterations, mixture)) return false;
     if (s.fixedShare >= 0) {
-        cell->share = std::min(s.fixedShare, 1.0f);
-        return cell->share > 0;
+        *share = std::min(s.fixedShare, 1.0f);
+        return *share > 0;
     }
     // M(α) = Σ_j (f_j L_j)² / (p_α,j · p_j) (guiding_field.h).
     double moment[kShareCount] = {};
     for (size_t j = 0; j < n; ++j) {
-        if (!(r[j].radiance > 0 && r[j].pdf > 0)) continue;
-        const float phase = hgPhase(dot(r[j].wIn, r[j].wi), r[j].g);
-        VmfMixture product;
-        const float pGuide = vmfProduct(cell->radiance, hgAsVmf(r[j].wIn, r[j].g), &product) ? product.pdf(r[j].wi) : 0.0f;
-        const double f = double(phase) * r[j].radiance;
+        if (bool(r[j].surface) != surface || !(r[j].radiance > 0 && r[j].pdf > 0)) continue;
+        float pGuide;
+        if (!surface) {
+            VmfMixture product;
+            pGuide = vmfProduct(*mixture, hgAsVmf(r[j].wIn, r[j].g), &product) ? product.pdf(r[j].wi) : 0.0f;
+        } else {
+            pGuide = mixture->pdf(r[j].wi);
+        }
+        const double f = double(r[j].scatter) * r[j].radiance;
         for (int k = 0; k < kShareCount; ++k) {
-            const double pAlpha = kShares[k] * double(pGuide) + (1.0 - kShares[k]) * phase;
-            moment[k] += f * f / (pAlpha * r[j].pdf);
+            const double pAlpha = kShares[k] * double(pGuide) + (1.0 - kShares[k]) * r[j].unguided;
+            moment[k] += pAlpha > 0 ? f * f / (pAlpha * r[j].pdf) : 0.0;
         }
     }
-    // A guided vertex costs more than a phase-sampled one (a product of lobes, and the
+    // A guided vertex costs more than an unguided one (a product of lobes, and the
     // mixture's density again for every light connection near it): a share must lower the
     // second moment by kGuidingCost to be taken.
     int best = 0;
     for (int k = 1; k < kShareCount; ++k)
         if (moment[k] < moment[best] && moment[k] < (1.0 - kGuidingCost) * moment[0]) best = k;
-    cell->share = kShares[best];
-    return cell->share > 0;
+    *share = kShares[best];
+    return *share > 0;
+}
+
+// A leaf's cell from its records, or false if it guides neither kind of vertex.
+bool fitCell(const GuideRecord* r, size_t n, const GuidingSettings& s, GuidingCell* cell) {
+    cell->records = uint32_t(std::min<size_t>(n, ~0u));
+    const bool medium = fitKind(r, n, false, s, &cell->medium, &cell->share);
+    const bool surface = fitKind(r, n, true, s, &cell->surface, &cell->surfaceShare);
+    if (!medium) cell->share = 0;
+    if (!surface) cell->surfaceShare = 0;
+    return medium || surface;
 }
 
 }  // namespace
@@ -160,7 +176,8 @@ void GuidingField::assign(Vec3 lo, Vec3 hi, std::vector<Node> nodes, std::vector
         if (!ok) throw std::runtime_error("guiding state is malformed");
     }
     for (const GuidingCell& c : cells)
-        if (c.radiance.count < 1 || c.radiance.count > VmfMixture::kMaxLobes) throw std::runtime_error("guiding state is malformed");
+        for (const VmfMixture* m : {&c.medium, &c.surface})
+            if (m->count < 0 || m->count > VmfMixture::kMaxLobes) throw std::runtime_error("guiding state is malformed");
     lo_ = lo;
     hi_ = hi;
     nodes_ = std::move(nodes);

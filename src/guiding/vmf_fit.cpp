@@ -37,18 +37,18 @@ bool fitVmfMixture(const WeightedDirection* samples, size_t n, int lobes, int it
         m.lobe[k].kappa = 3.0f;
     }
     double gamma[VmfMixture::kMaxLobes];
-    double logScale[VmfMixture::kMaxLobes];  // log C(κ) + κ per lobe: vMF(d) = exp(that + κ(μ·d − 1))
+    double scale[VmfMixture::kMaxLobes];  // vMF(d) = scale · e^{κ(μ·d − 1)} (vmf.h)
     for (int it = 0; it < iterations; ++it) {
         double W[VmfMixture::kMaxLobes] = {};
         Sum3 R[VmfMixture::kMaxLobes];
-        for (int k = 0; k < lobes; ++k) logScale[k] = vmfLogNorm(m.lobe[k].kappa) + m.lobe[k].kappa;
+        for (int k = 0; k < lobes; ++k) scale[k] = vmfScale(m.lobe[k].kappa);
         for (size_t j = 0; j < n; ++j) {
             const WeightedDirection& s = samples[j];
             if (!(s.w > 0)) continue;
             double sum = 0;
             for (int k = 0; k < lobes; ++k)
                 sum += gamma[k] = double(m.weight[k]) *
-                                  std::exp(logScale[k] + m.lobe[k].kappa * (double(dot(m.lobe[k].mu, s.d)) - 1.0));
+                                  scale[k] * std::exp(m.lobe[k].kappa * (double(dot(m.lobe[k].mu, s.d)) - 1.0));
             if (!(sum > 0)) continue;
             for (int k = 0; k < lobes; ++k) {
                 const double r = s.w * gamma[k] / sum;
@@ -60,6 +60,8 @@ bool fitVmfMixture(const WeightedDirection* samples, size_t n, int lobes, int it
         }
         double wSum = 0;
         for (int k = 0; k < lobes; ++k) wSum += W[k];
+        size_t used = 0;
+        for (size_t j = 0; j < n; ++j) used += samples[j].w > 0;
         if (!(wSum > 0)) return false;
         for (int k = 0; k < lobes; ++k) {
             m.weight[k] = float(W[k] / wSum);
@@ -69,7 +71,7 @@ bool fitVmfMixture(const WeightedDirection* samples, size_t n, int lobes, int it
                 continue;
             }
             m.lobe[k].mu = Vec3(float(R[k].x / len), float(R[k].y / len), float(R[k].z / len));
-            const double prior = wSum / (8.0 * lobes);
+            const double prior = 2.0 * wSum / double(used);
             const double rBar = len / (W[k] + prior);
             m.lobe[k].kappa = std::min(kMaxKappa, vmfKappaForMeanCosine(float(rBar)));
         }

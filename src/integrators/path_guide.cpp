@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "brume/integrators/state_bytes.h"
@@ -23,7 +24,11 @@ thread_local ArenaCache cache;
 
 }  // namespace
 
-PathGuide::PathGuide(GuidingSettings settings) : id_(nextId++), settings_(settings) {}
+PathGuide::PathGuide(GuidingSettings settings) : id_(nextId++), settings_(settings) {
+    if (const char* e = std::getenv("BRUME_GUIDE_SHARE")) settings_.fixedShare = float(std::atof(e));  // TEMP
+    if (const char* e = std::getenv("BRUME_GUIDE_LEAF")) settings_.maxRecords = std::atoi(e);  // TEMP
+    if (const char* e = std::getenv("BRUME_GUIDE_LOBES")) settings_.lobes = std::atoi(e);  // TEMP
+}
 
 PathGuide::Arena& PathGuide::arena() const {
     if (cache.owner != id_) {
@@ -65,9 +70,34 @@ void PathGuide::endPass(const PassSummary& summary) {
     const bool refit = (passes_ & (passes_ - 1)) == 0 || !training();  // 1, 2, 4, 8, 16, or full
     if (!refit) return;
     const auto start = std::chrono::steady_clock::now();
-    std::vector<GuideRecord> ordered = records_;  // build() reorders its input
+    // build() reorders its input: a copy, or every k-th record.
+    std::vector<GuideRecord> ordered;
+    const size_t stride = (records_.size() + kFitRecords - 1) / kFitRecords;
+    ordered.reserve(records_.size() / std::max<size_t>(stride, 1) + 1);
+    for (size_t i = 0; i < records_.size(); i += std::max<size_t>(stride, 1)) ordered.push_back(records_[i]);
     field_.build(ordered, settings_);
     ++fits_;
+    if (std::getenv("BRUME_DEBUG_GUIDE")) {  // TEMP
+        int hm[5] = {}, hs[5] = {};
+        auto bin = [](float a) { return a <= 0 ? 0 : a <= 0.25f ? 1 : a <= 0.5f ? 2 : a <= 0.75f ? 3 : 4; };
+        double kap = 0; int nl = 0;
+        for (const GuidingCell& c : field_.cells()) {
+            ++hm[bin(c.share)];
+            ++hs[bin(c.surfaceShare)];
+            for (int i = 0; i < c.medium.count; ++i) kap += c.medium.lobe[i].kappa * c.medium.weight[i];
+            ++nl;
+        }
+        for (Vec3 q : {Vec3(2.99f, 1.4f, 0.0f), Vec3(0.0f, 0.01f, 1.0f), Vec3(-2.99f, 1.4f, 1.0f), Vec3(0.5f, 1.5f, 0.5f)}) {
+            const GuidingCell* c = field_.lookup(q);
+            if (!c) { std::fprintf(stderr, "  (%g %g %g): no cell\n", q.x, q.y, q.z); continue; }
+            Vec3 door = normalize(Vec3(0.0f, 1.05f, -2.0f) - q);
+            std::fprintf(stderr, "  (%g %g %g): %u records, share %.2f surf %.2f, pdf at door %.3f; lobes:", q.x, q.y, q.z, c->records, c->share, c->surfaceShare, c->surface.pdf(door));
+            for (int i = 0; i < c->surface.count; ++i) std::fprintf(stderr, " [w %.2f k %.1f cos-to-door %.2f]", c->surface.weight[i], c->surface.lobe[i].kappa, dot(c->surface.lobe[i].mu, door));
+            std::fprintf(stderr, "\n");
+        }
+        std::fprintf(stderr, "fit %d (%zu records, %zu leaves): medium shares %d %d %d %d %d, surface %d %d %d %d %d, mean kappa %.1f\n",
+                     fits_, records_.size(), field_.leaves(), hm[0], hm[1], hm[2], hm[3], hm[4], hs[0], hs[1], hs[2], hs[3], hs[4], nl ? kap / nl : 0.0);
+    }
     learnSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!training()) records_ = std::vector<GuideRecord>();  // frozen: the records are not needed again
 }

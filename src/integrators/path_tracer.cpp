@@ -72,14 +72,19 @@ struct Vertex {
     Vec3 ng;                         // surface vertex: geometric normal
     const MediumOrigin* origin = nullptr;  // medium vertex
     const GuidedPhase* guided = nullptr;   // medium vertex: its direction sampler
+    const GuidingCell* cell = nullptr;     // surface vertex: its guide, with share α > 0
+    float surfaceShare = 0;
 
-    Spectrum eval(Vec3 wi, float* pdf) const {
+    // The density is that of the walk's own direction sampling; the guided mixture's only
+    // where it is needed (`guidedPdf`: a light that direction sampling can reach).
+    Spectrum eval(Vec3 wi, float* pdf, bool guidedPdf) const {
         if (bsdf) {
             *pdf = bsdf->pdf(wo, wi);
+            if (cell && guidedPdf) *pdf = surfaceShare * cell->surface.pdf(wi) + (1.0f - surfaceShare) * *pdf;
             return bsdf->eval(wo, wi);
         }
         float p = hgPhase(dot(-wo, wi), origin->seg.medium->g);
-        *pdf = guided ? guided->pdf(wi) : p;
+        *pdf = guided && guidedPdf ? guided->pdf(wi) : p;
         return Spectrum(p);
     }
 };
@@ -186,7 +191,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     LightSample ls;
     if (!sampleLight(scene, light, v.p, lightPointNumbers(light, sampler, dims + dim::kLightPoint, 0), &ls) || isBlack(ls.Le)) return Spectrum(0.0f);
     float scatterPdf;
-    Spectrum f = v.eval(ls.wi, &scatterPdf);
+    Spectrum f = v.eval(ls.wi, &scatterPdf, !ls.isDelta);
     if (isBlack(f)) return Spectrum(0.0f);
     float w;
     if (v.origin) {
@@ -248,7 +253,8 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
-    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
+    // (B cannot reach a point or spot light: its density, guided or not, is then not needed.)
+    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
@@ -420,8 +426,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi;
-            if (guided.share > 0) {  // weight phase / p, p the mixture (guided_phase.h); kLobe is free at medium vertices
-                wi = guided.sample(sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection));
+            if (guided.share > 0) {  // weight phase / p, p the mixture (guided_phase.h)
+                wi = guided.sample(sampler.get1D(dims + dim::kGuide), sampler.get2D(dims + dim::kDirection));
                 prevPdf = guided.pdf(wi);
                 beta *= prevPdf > 0 ? hgPhase(dot(ray.d, wi), m->g) / prevPdf : 0.0f;
             } else {
@@ -429,7 +435,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 prevPdf = hgPhase(dot(ray.d, wi), m->g);
             }
             if (training && recordCount < kMaxRecords) {
-                records[recordCount] = GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, pixel, uint32_t(depth)};
+                const float phase = hgPhase(dot(ray.d, wi), m->g);
+                records[recordCount] = GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, phase, phase, 0, pixel, uint32_t(depth)};
                 recordBeta[recordCount] = beta;
                 recordL[recordCount++] = L;
             }
@@ -471,6 +478,15 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.wo = -ray.d;
             v.bsdf = &bsdf;
             v.ng = hit.ng;
+            // Guided at an opaque surface (guided_phase.h, the same mixture with the BSDF in the
+            // phase function's place and the radiance mixture itself as the guide):
+            //   p(ω) = α · p_guide(ω) + (1 − α) · p_bsdf(ω),  weight f·|cos| / p.
+            const GuidingCell* cell = field && !bsdf.isSpecular() ? field->lookup(hit.p) : nullptr;
+            const float share = cell ? cell->surfaceShare : 0.0f;
+            if (share > 0) {
+                v.cell = cell;
+                v.surfaceShare = share;
+            }
             if (nee && !bsdf.isSpecular()) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += counted(PathTracerTechnique::AtVertex,
@@ -478,8 +494,27 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
 
             BsdfSample bs;
-            if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) break;
+            if (share > 0) {
+                if (sampler.get1D(dims + dim::kGuide) < share) {
+                    bs.wi = cell->surface.sample(sampler.get2D(dims + dim::kDirection));
+                } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) {
+                    break;
+                }
+                bs.pdf = share * cell->surface.pdf(bs.wi) + (1.0f - share) * bsdf.pdf(v.wo, bs.wi);
+                const Spectrum f = bsdf.eval(v.wo, bs.wi);
+                bs.weight = bs.pdf > 0 ? f / bs.pdf : Spectrum(0.0f);
+                bs.specular = bs.transmitted = false;  // (opaque, not specular)
+            } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) {
+                break;
+            }
             beta *= bs.weight;
+            if (training && recordCount < kMaxRecords && !bs.specular && bs.pdf > 0) {
+                const Spectrum f = bs.weight * bs.pdf;
+                records[recordCount] = GuideRecord{hit.p, ray.d, bs.wi, 0.0f, bs.pdf, 0.0f, (f.x + f.y + f.z) / 3.0f,
+                                                   share > 0 ? bsdf.pdf(v.wo, bs.wi) : bs.pdf, 1, pixel, uint32_t(depth)};
+                recordBeta[recordCount] = beta;
+                recordL[recordCount++] = L;
+            }
             if (bs.transmitted && mesh.interiorMedium >= 0) media.toggle(mesh.interiorMedium);
             specularBounce = bs.specular;
             prevPdf = bs.pdf;

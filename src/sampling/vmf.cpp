@@ -77,23 +77,17 @@ VmfLobe hgAsVmf(Vec3 d, float g) {
     return l;
 }
 
-void VmfMixture::prepare() {
-    for (int i = 0; i < count; ++i) {
-        const double logNorm = vmfLogNorm(lobe[i].kappa);
-        logScale[i] = float(logNorm + lobe[i].kappa);
-        logWeightNorm[i] = weight[i] > 0 ? float(std::log(double(weight[i])) + logNorm) : -1e30f;
-    }
-    prepared = true;
+// Beyond κ = 10, 1 − e^{−2κ} is 1 to float precision.
+float vmfScale(float kappa) {
+    if (kappa < 1e-4f) return kInv4Pi;
+    const float tail = kappa < 0.05f ? -std::expm1(-2.0f * kappa) : (kappa < 10.0f ? 1.0f - std::exp(-2.0f * kappa) : 1.0f);
+    return kappa / (2.0f * kPi * tail);
 }
 
-namespace {
-// vmfLogNorm in float, for the products made at every guided vertex.
-float logNormF(float kappa) {
-    if (kappa < 1e-4f) return float(-kLog4Pi);
-    constexpr float kLog2Pi = 1.83787707f;
-    return std::log(kappa) - kLog2Pi - kappa - (kappa < 10.0f ? std::log1p(-std::exp(-2.0f * kappa)) : 0.0f);
+void VmfMixture::prepare() {
+    for (int i = 0; i < count; ++i) scale[i] = vmfScale(lobe[i].kappa);
+    prepared = true;
 }
-}  // namespace
 
 float VmfMixture::pdf(Vec3 w) const {
     float p = 0;
@@ -101,10 +95,8 @@ float VmfMixture::pdf(Vec3 w) const {
         for (int i = 0; i < count; ++i) p += weight[i] * vmfPdf(lobe[i], w);
         return p;
     }
-    for (int i = 0; i < count; ++i) {
-        const float k = lobe[i].kappa;
-        p += weight[i] * (k < 1e-4f ? kInv4Pi : std::exp(logScale[i] + k * (std::min(dot(lobe[i].mu, w), 1.0f) - 1.0f)));
-    }
+    for (int i = 0; i < count; ++i)
+        p += weight[i] * scale[i] * std::exp(lobe[i].kappa * (std::min(dot(lobe[i].mu, w), 1.0f) - 1.0f));
     return p;
 }
 
@@ -120,6 +112,10 @@ Vec3 VmfMixture::sample(Sample2 u) const {
     return sampleVmf(lobe[i], u);
 }
 
+// The product's weights, with S(κ) = vmfScale(κ) = C(κ)e^κ:
+//   w'_i ∝ w_i C(κ_i) C(κ_l) / C(κ'_i) = w_i S(κ_i) S(κ_l) / S(κ'_i) · e^{κ'_i − κ_i − κ_l};
+// S(κ_l) is common to all and drops out, and κ'_i − κ_i − κ_l ≤ 0 (|a + b| ≤ |a| + |b|);
+// the largest exponent is taken out before exp so that not all of them underflow.
 bool vmfProduct(const VmfMixture& m, const VmfLobe& l, VmfMixture* out) {
     if (l.kappa < 1e-4f) {  // a uniform factor: the mixture itself
         *out = m;
@@ -128,38 +124,26 @@ bool vmfProduct(const VmfMixture& m, const VmfLobe& l, VmfMixture* out) {
         for (int i = 0; i < m.count; ++i) total += m.weight[i];
         return total > 0;
     }
-    VmfMixture prepared;
-    const VmfMixture* src = &m;
-    if (!m.prepared) {
-        prepared = m;
-        prepared.prepare();
-        src = &prepared;
-    }
     out->count = m.count;
-    const float logNormL = logNormF(l.kappa);
-    float logS[VmfMixture::kMaxLobes];
+    float factor[VmfMixture::kMaxLobes], exponent[VmfMixture::kMaxLobes];
     float top = -1e30f;
     for (int i = 0; i < m.count; ++i) {
-        const Vec3 v = src->lobe[i].mu * src->lobe[i].kappa + l.mu * l.kappa;
+        const Vec3 v = m.lobe[i].mu * m.lobe[i].kappa + l.mu * l.kappa;
         const float k = length(v);
-        const float logNormK = logNormF(k);
         out->lobe[i].kappa = k;
         out->lobe[i].mu = k > 0 ? v / k : Vec3(0.0f, 0.0f, 1.0f);
-        out->logScale[i] = logNormK + k;
-        logS[i] = src->logWeightNorm[i] + logNormL - logNormK;
-        top = std::max(top, logS[i]);
+        out->scale[i] = vmfScale(k);
+        const float si = m.prepared ? m.scale[i] : vmfScale(m.lobe[i].kappa);
+        factor[i] = m.weight[i] * si / out->scale[i];
+        exponent[i] = k - m.lobe[i].kappa - l.kappa;
+        if (factor[i] > 0) top = std::max(top, exponent[i]);
     }
     out->prepared = true;
-    if (!(top > -1e29f)) return false;
     float sum = 0;
-    for (int i = 0; i < m.count; ++i) sum += std::exp(logS[i] - top);
-    const float logSum = std::log(sum);
-    for (int i = 0; i < m.count; ++i) {
-        const float logWeight = logS[i] - top - logSum;
-        out->weight[i] = std::exp(logWeight);
-        out->logWeightNorm[i] = logWeight + (out->logScale[i] - out->lobe[i].kappa);
-    }
-    return sum > 0;
+    for (int i = 0; i < m.count; ++i) sum += out->weight[i] = factor[i] > 0 ? factor[i] * std::exp(exponent[i] - top) : 0.0f;
+    if (!(sum > 0) || !std::isfinite(sum)) return false;
+    for (int i = 0; i < m.count; ++i) out->weight[i] /= sum;
+    return true;
 }
 
 }  // namespace brume

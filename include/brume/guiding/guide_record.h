@@ -1,5 +1,6 @@
-// One training sample for path guiding: a direction a camera walk took at a medium vertex,
-// and the radiance the rest of its path brought back along it (docs/path-guiding.md).
+// One training sample for path guiding: a direction a camera walk took at a medium or
+// surface vertex, and the radiance the rest of its path brought back along it
+// (docs/path-guiding.md).
 #pragma once
 #include <cstdint>
 
@@ -11,9 +12,12 @@ struct GuideRecord {
     Vec3 p;             // the vertex
     Vec3 wIn;           // the propagation direction that reached it (the camera walk's ray)
     Vec3 wi;            // the direction it continued in
-    float g = 0;        // the medium's anisotropy there
-    float pdf = 0;      // the density wi was sampled with (guided mixture or phase alone)
+    float g = 0;        // the medium's anisotropy there (0 at a surface)
+    float pdf = 0;      // the density wi was sampled with (guided mixture or unguided alone)
     float radiance = 0; // incident radiance estimate L_i(p, wi), the channel mean
+    float scatter = 0;  // the phase function, or f·|cos θ| (channel mean), at wi
+    float unguided = 0; // the unguided technique's density at wi (phase or BSDF sampling)
+    uint32_t surface = 0;  // 1: a surface vertex
     // Where it came from, for a fixed order whatever thread made it: the pixel and the
     // vertex's index on the path.
     uint32_t pixel = 0;

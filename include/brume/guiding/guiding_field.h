@@ -1,12 +1,13 @@
 // The spatio-directional radiance cache of path guiding (docs/path-guiding.md): a kd-tree
-// over the medium vertices of training paths, split at the middle of the longest side
-// while a cell holds more than maxRecords records, with per leaf
+// over the medium and surface vertices of training paths, split at the middle of the
+// longest side while a cell holds more than maxRecords records, with per leaf and kind of
+// vertex
 //   - a vMF mixture fitted to the incident radiance (vmf_fit.h, weights L / p), and
 //   - the share α of guided directions, chosen among a few values by the second moment
 //     the records predict for it:  M(α) = Σ_j (f_j L_j)² / (p_α(ω_j) · p_j),
-//     f_j the phase, p_j the density ω_j was drawn with, p_α the guided mixture with the
-//     new fit (guided_phase.h). α = 0 where guiding would not lower it by a tenth (the
-//     extra cost of a guided vertex).
+//     f_j the phase or f·|cos|, p_j the density ω_j was drawn with, p_α the guided
+//     mixture with the new fit (guided_phase.h). α = 0 where guiding would not lower it by
+//     a tenth (the extra cost of a guided vertex).
 // Built from scratch from a list of records; deterministic in their order.
 #pragma once
 #include <cstdint>
@@ -17,9 +18,13 @@
 
 namespace brume {
 
+// Medium and surface records are fitted apart: light reaches a surface from one side only,
+// and a mixture fitted to both would send half of a surface's guided directions into it.
 struct GuidingCell {
-    VmfMixture radiance;
-    float share = 0;  // α
+    VmfMixture medium;       // incident radiance at medium vertices
+    VmfMixture surface;      // and at surface vertices
+    float share = 0;         // α at medium vertices (guided: the product with the phase)
+    float surfaceShare = 0;  // α at surface vertices (guided: the surface mixture itself)
     uint32_t records = 0;
 };
 
@@ -27,7 +32,7 @@ struct GuidingSettings {
     int maxRecords = 2048;  // per leaf, before it splits
     int minRecords = 64;    // records with radiance a leaf needs to guide at all
     int lobes = 6;
-    int iterations = 8;     // EM steps
+    int iterations = 6;     // EM steps
     int threads = 0;        // fitting leaves in parallel (0: all cores); no effect on the result
     float fixedShare = -1;  // ≥ 0: every fitted leaf guides with this α (tests: guiding forced on)
 };
@@ -43,7 +48,7 @@ public:
 
     // Reorders `records` (grouped by leaf).
     void build(std::vector<GuideRecord>& records, const GuidingSettings& settings);
-    // The cell at p, or null (outside the tree, or a leaf that does not guide).
+    // The cell at p, or null (outside the tree, or a leaf that guides neither kind of vertex).
     const GuidingCell* lookup(Vec3 p) const;
 
     bool empty() const { return nodes_.empty(); }

@@ -6,8 +6,10 @@
 // all importance samples of the incident radiance (weights L / p, whatever guide drew
 // them), so the early ones stay valid for the later fits.
 //
-// Memory: at most kMaxRecords records (56 bytes each); on large images only every
+// Memory: at most kMaxRecords records (64 bytes each); on large images only every
 // stride-th pixel (by a hash of its index) records, stride = ⌈pixels / kRecordPixels⌉.
+// Time: a fit reads at most kFitRecords of them (every k-th, in their fixed order), so
+// learning costs at most about five fits of that size.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -30,7 +32,8 @@ struct GuidingReport {
 class PathGuide {
 public:
     static constexpr int kLastFitPass = 16;
-    static constexpr size_t kMaxRecords = size_t(1) << 21;
+    static constexpr size_t kMaxRecords = size_t(1) << 20;
+    static constexpr size_t kFitRecords = size_t(1) << 17;
     static constexpr uint64_t kRecordPixels = 1 << 16;
 
     explicit PathGuide(GuidingSettings settings = {});

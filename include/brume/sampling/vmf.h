@@ -19,6 +19,8 @@ struct VmfLobe {
 
 // log C(κ) = log(κ / (4π sinh κ)), stable for κ → 0 and κ ≫ 1.
 double vmfLogNorm(double kappa);
+// C(κ)·e^κ = κ / (2π (1 − e^{−2κ})) (1/(4π) at κ = 0): vMF(w) = that · e^{κ(μ·w − 1)}.
+float vmfScale(float kappa);
 float vmfPdf(const VmfLobe& lobe, Vec3 w);
 Vec3 sampleVmf(const VmfLobe& lobe, Sample2 u);
 // The mean cosine coth κ − 1/κ of a lobe about its axis, and its inverse (κ for a mean
@@ -35,10 +37,9 @@ struct VmfMixture {
     int count = 0;
     float weight[kMaxLobes] = {};  // sum to 1 over the first `count`
     VmfLobe lobe[kMaxLobes];
-    // log C(κ) + κ of each lobe, once prepare() has run (pdf() then needs one exp a lobe);
+    // vmfScale(κ) of each lobe, once prepare() has run (pdf() then needs one exp a lobe);
     // a change to the lobes afterwards needs prepare() again.
-    float logScale[kMaxLobes] = {};
-    float logWeightNorm[kMaxLobes] = {};  // log(weight) + log C(κ)
+    float scale[kMaxLobes] = {};
     bool prepared = false;
 
     void prepare();

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "brume/integrators/state_bytes.h"
@@ -14,7 +13,7 @@ namespace brume {
 namespace {
 
 std::atomic<uint64_t> nextId{1};
-constexpr uint32_t kMagic = 0x47445031;  // "GDP1"
+constexpr uint32_t kMagic = 0x47445032;  // "GDP2"
 
 struct ArenaCache {
     uint64_t owner = 0;
@@ -24,11 +23,7 @@ thread_local ArenaCache cache;
 
 }  // namespace
 
-PathGuide::PathGuide(GuidingSettings settings) : id_(nextId++), settings_(settings) {
-    if (const char* e = std::getenv("BRUME_GUIDE_SHARE")) settings_.fixedShare = float(std::atof(e));  // TEMP
-    if (const char* e = std::getenv("BRUME_GUIDE_LEAF")) settings_.maxRecords = std::atoi(e);  // TEMP
-    if (const char* e = std::getenv("BRUME_GUIDE_LOBES")) settings_.lobes = std::atoi(e);  // TEMP
-}
+PathGuide::PathGuide(GuidingSettings settings) : id_(nextId++), settings_(settings) {}
 
 PathGuide::Arena& PathGuide::arena() const {
     if (cache.owner != id_) {
@@ -62,6 +57,18 @@ void PathGuide::endPass(const PassSummary& summary) {
     }
     if (!summary.complete || !training()) return;
     ++passes_;
+    if (summary.radiance) {
+        const size_t n = size_t(summary.width) * size_t(summary.height);
+        if (summary.width != estimateWidth_ || summary.height != estimateHeight_) {
+            estimateWidth_ = summary.width;
+            estimateHeight_ = summary.height;
+            pixelSums_.assign(n, 0.0);
+        }
+        for (size_t i = 0; i < n; ++i) {
+            const Spectrum& L = summary.radiance[i];
+            pixelSums_[i] += (double(L.x) + L.y + L.z) / 3.0;
+        }
+    }
     std::sort(pass.begin(), pass.end(), [](const GuideRecord& a, const GuideRecord& b) {
         return a.pixel != b.pixel ? a.pixel < b.pixel : a.vertex < b.vertex;
     });
@@ -76,28 +83,23 @@ void PathGuide::endPass(const PassSummary& summary) {
     ordered.reserve(records_.size() / std::max<size_t>(stride, 1) + 1);
     for (size_t i = 0; i < records_.size(); i += std::max<size_t>(stride, 1)) ordered.push_back(records_[i]);
     field_.build(ordered, settings_);
+    // The pixel estimate: the mean of the training passes, 3×3 box filtered (one sample a
+    // pass is noisy; guided survival needs its scale, not its detail).
+    pixelEstimate_.assign(pixelSums_.size(), 0.0f);
+    for (int y = 0; y < estimateHeight_; ++y)
+        for (int x = 0; x < estimateWidth_; ++x) {
+            double sum = 0;
+            int n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= estimateWidth_ || yy >= estimateHeight_) continue;
+                    sum += pixelSums_[size_t(yy) * size_t(estimateWidth_) + size_t(xx)];
+                    ++n;
+                }
+            pixelEstimate_[size_t(y) * size_t(estimateWidth_) + size_t(x)] = float(sum / (double(n) * passes_));
+        }
     ++fits_;
-    if (std::getenv("BRUME_DEBUG_GUIDE")) {  // TEMP
-        int hm[5] = {}, hs[5] = {};
-        auto bin = [](float a) { return a <= 0 ? 0 : a <= 0.25f ? 1 : a <= 0.5f ? 2 : a <= 0.75f ? 3 : 4; };
-        double kap = 0; int nl = 0;
-        for (const GuidingCell& c : field_.cells()) {
-            ++hm[bin(c.share)];
-            ++hs[bin(c.surfaceShare)];
-            for (int i = 0; i < c.medium.count; ++i) kap += c.medium.lobe[i].kappa * c.medium.weight[i];
-            ++nl;
-        }
-        for (Vec3 q : {Vec3(2.99f, 1.4f, 0.0f), Vec3(0.0f, 0.01f, 1.0f), Vec3(-2.99f, 1.4f, 1.0f), Vec3(0.5f, 1.5f, 0.5f)}) {
-            const GuidingCell* c = field_.lookup(q);
-            if (!c) { std::fprintf(stderr, "  (%g %g %g): no cell\n", q.x, q.y, q.z); continue; }
-            Vec3 door = normalize(Vec3(0.0f, 1.05f, -2.0f) - q);
-            std::fprintf(stderr, "  (%g %g %g): %u records, share %.2f surf %.2f, pdf at door %.3f; lobes:", q.x, q.y, q.z, c->records, c->share, c->surfaceShare, c->surface.pdf(door));
-            for (int i = 0; i < c->surface.count; ++i) std::fprintf(stderr, " [w %.2f k %.1f cos-to-door %.2f]", c->surface.weight[i], c->surface.lobe[i].kappa, dot(c->surface.lobe[i].mu, door));
-            std::fprintf(stderr, "\n");
-        }
-        std::fprintf(stderr, "fit %d (%zu records, %zu leaves): medium shares %d %d %d %d %d, surface %d %d %d %d %d, mean kappa %.1f\n",
-                     fits_, records_.size(), field_.leaves(), hm[0], hm[1], hm[2], hm[3], hm[4], hs[0], hs[1], hs[2], hs[3], hs[4], nl ? kap / nl : 0.0);
-    }
     learnSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!training()) records_ = std::vector<GuideRecord>();  // frozen: the records are not needed again
 }
@@ -108,6 +110,10 @@ std::string PathGuide::saveState() const {
     putBytes(out, int32_t(passes_));
     putBytes(out, int32_t(fits_));
     putVector(out, records_);
+    putBytes(out, int32_t(estimateWidth_));
+    putBytes(out, int32_t(estimateHeight_));
+    putVector(out, pixelSums_);
+    putVector(out, pixelEstimate_);
     putBytes(out, field_.lower());
     putBytes(out, field_.upper());
     putVector(out, field_.nodes());
@@ -121,6 +127,13 @@ void PathGuide::loadState(const std::string& state) {
     passes_ = in.get<int32_t>();
     fits_ = in.get<int32_t>();
     records_ = in.getVector<GuideRecord>(kMaxRecords);
+    estimateWidth_ = in.get<int32_t>();
+    estimateHeight_ = in.get<int32_t>();
+    pixelSums_ = in.getVector<double>(size_t(1) << 31);
+    pixelEstimate_ = in.getVector<float>(size_t(1) << 31);
+    const size_t pixels = size_t(std::max(estimateWidth_, 0)) * size_t(std::max(estimateHeight_, 0));
+    if (pixelSums_.size() != pixels || (!pixelEstimate_.empty() && pixelEstimate_.size() != pixels))
+        throw std::runtime_error("guiding state is malformed");
     const Vec3 lo = in.get<Vec3>(), hi = in.get<Vec3>();
     auto nodes = in.getVector<GuidingField::Node>(size_t(1) << 26);
     auto cells = in.getVector<GuidingCell>(size_t(1) << 26);

@@ -1,5 +1,7 @@
 #include "brume/integrators/path_tracer.h"
 
+#include <algorithm>
+
 #include "brume/guiding/guided_phase.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
@@ -336,6 +338,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                            uint32_t(std::min(std::max(int(fx), 0), width - 1));
     const bool training = guide_ && guide_->records(pixel, width, height);
     constexpr int kMaxRecords = 16;
+    // Guided survival (below): the pixel's value as training saw it, and at the last vertex
+    // the throughput before its scattering and what its cell says a walk brings back.
+    const float pixelValue = field ? guide_->pixelEstimate(pixel, width, height) : -1.0f;
+    Spectrum betaBefore(0.0f);
+    float adjoint = -1;
     GuideRecord records[kMaxRecords];
     Spectrum recordBeta[kMaxRecords], recordL[kMaxRecords];
     int recordCount = 0;
@@ -419,6 +426,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.origin = &prevOrigin;
             const GuidedPhase guided = GuidedPhase::at(field, v.p, ray.d, m->g);
             v.guided = guided.share > 0 ? &guided : nullptr;
+            betaBefore = beta;
+            adjoint = guided.cell ? guided.cell->mediumAdjoint : -1.0f;
             if (nee) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += counted(PathTracerTechnique::AtVertex,
@@ -427,7 +436,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi;
             if (guided.share > 0) {  // weight phase / p, p the mixture (guided_phase.h)
-                wi = guided.sample(sampler.get1D(dims + dim::kGuide), sampler.get2D(dims + dim::kDirection));
+                wi = guided.sample(sampler.get2D(dims + dim::kDirection));
                 prevPdf = guided.pdf(wi);
                 beta *= prevPdf > 0 ? hgPhase(dot(ray.d, wi), m->g) / prevPdf : 0.0f;
             } else {
@@ -487,6 +496,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 v.cell = cell;
                 v.surfaceShare = share;
             }
+            adjoint = cell ? cell->surfaceAdjoint : -1.0f;
             if (nee && !bsdf.isSpecular()) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += counted(PathTracerTechnique::AtVertex,
@@ -494,10 +504,12 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
 
             BsdfSample bs;
-            if (share > 0) {
-                if (sampler.get1D(dims + dim::kGuide) < share) {
-                    bs.wi = cell->surface.sample(sampler.get2D(dims + dim::kDirection));
-                } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) {
+            if (share > 0) {  // u.u picks the technique, rescaled (guided_phase.h: sample)
+                Sample2 u = sampler.get2D(dims + dim::kDirection);
+                if (u.u < share) {
+                    bs.wi = cell->surface.sample(Sample2{std::min(u.u / share, 0x1.fffffep-1f), u.v});
+                } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe),
+                                        Sample2{std::min((u.u - share) / (1.0f - share), 0x1.fffffep-1f), u.v}, &bs)) {
                     break;
                 }
                 bs.pdf = share * cell->surface.pdf(bs.wi) + (1.0f - share) * bsdf.pdf(v.wo, bs.wi);
@@ -507,6 +519,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs)) {
                 break;
             }
+            betaBefore = beta;
             beta *= bs.weight;
             if (training && recordCount < kMaxRecords && !bs.specular && bs.pdf > 0) {
                 const Spectrum f = bs.weight * bs.pdf;
@@ -524,9 +537,24 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!isFinite(beta) || isBlack(beta)) break;
         }
 
-        // Russian roulette after three events (sample_dimensions.h: kRoulette).
-        if (depth >= 3) {
-            float survive = rouletteSurvival(beta, 1.0f, depth, scene.mediumChannels() > 1);
+        // Guided survival (ADRRS, Vorba and Křivánek 2016; docs/path-guiding.md): a walk whose
+        // expected contribution β·A (A: what its cell says a walk scattering there brings
+        // back per unit of throughput) is at least 1/kWindow of the pixel's value goes on;
+        // a smaller one survives with probability kWindow·β·A / pixel (at least kMinSurvival:
+        // A is an estimate, and a walk it calls worthless may not be). Unbiased for any
+        // survival probability above 0. Grey media only (coloured ones keep the throughput
+        // roulette that bounds every channel's weight), and up to kGuidedDepth events, where
+        // the throughput roulette (and its cap below 1) takes over again.
+        constexpr float kWindow = 3.0f, kMinSurvival = 0.05f;
+        constexpr int kGuidedDepth = 32;
+        const bool coloured = scene.mediumChannels() > 1;
+        if (adjoint >= 0 && pixelValue > 0 && !coloured && depth < kGuidedDepth) {
+            const float expected = (betaBefore.x + betaBefore.y + betaBefore.z) / 3.0f * adjoint;
+            const float survive = std::clamp(kWindow * expected / pixelValue, kMinSurvival, 1.0f);
+            if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
+            beta /= survive;
+        } else if (depth >= 3) {  // Russian roulette after three events (sample_dimensions.h: kRoulette).
+            float survive = rouletteSurvival(beta, 1.0f, depth, coloured);
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }
@@ -534,6 +562,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     if (recordCount > 0) {
         // L_i(p, ω) = (L − L_before) / β_after per channel, their mean; records that saw no
         // light teach nothing (guiding_field.h) and are not kept.
+        // Records that saw no light are kept one in 8 (counting 8), for the cells' adjoints.
         int kept = 0;
         for (int i = 0; i < recordCount; ++i) {
             double sum = 0;
@@ -544,8 +573,14 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                     ++channels;
                 }
             const float radiance = channels > 0 ? float(sum / channels) : 0.0f;
-            if (!(radiance > 0) || !std::isfinite(radiance)) continue;
+            if (!std::isfinite(radiance) || radiance < 0) continue;
+            float count = 1;
+            if (!(radiance > 0)) {
+                if (sampler.get1D(dim::walkVertex(dim::Side::Camera, int(records[i].vertex)) + dim::kKeep) >= 0.125f) continue;
+                count = 8;
+            }
             records[kept] = records[i];
+            records[kept].count = count;
             records[kept++].radiance = radiance;
         }
         if (kept > 0) guide_->add(records, kept);

@@ -22,6 +22,7 @@ struct GuideRecord {
     // vertex's index on the path.
     uint32_t pixel = 0;
     uint32_t vertex = 0;
+    float count = 1;    // how many walks it stands for (records that saw no light are kept one in 8)
 };
 
 }  // namespace brume

@@ -1,6 +1,7 @@
 // The spatio-directional radiance cache of path guiding (docs/path-guiding.md): a kd-tree
 // over the medium and surface vertices of training paths, split at the middle of the
-// longest side while a cell holds more than maxRecords records, with per leaf and kind of
+// longest side while a cell holds more than maxRecords records that saw light, with per
+// leaf and kind of
 // vertex
 //   - a vMF mixture fitted to the incident radiance (vmf_fit.h, weights L / p), and
 //   - the share α of guided directions, chosen among a few values by the second moment
@@ -25,11 +26,15 @@ struct GuidingCell {
     VmfMixture surface;      // and at surface vertices
     float share = 0;         // α at medium vertices (guided: the product with the phase)
     float surfaceShare = 0;  // α at surface vertices (guided: the surface mixture itself)
+    // What a walk scattering here brings back per unit of throughput (the adjoint of
+    // guided survival, path_tracer.cpp): the records' mean of f·L/p, for medium and surface
+    // vertices; −1 where too few records of the kind were seen.
+    float mediumAdjoint = -1, surfaceAdjoint = -1;
     uint32_t records = 0;
 };
 
 struct GuidingSettings {
-    int maxRecords = 2048;  // per leaf, before it splits
+    int maxRecords = 2048;  // records that saw light per leaf, before it splits
     int minRecords = 64;    // records with radiance a leaf needs to guide at all
     int lobes = 6;
     int iterations = 6;     // EM steps
@@ -48,12 +53,13 @@ public:
 
     // Reorders `records` (grouped by leaf).
     void build(std::vector<GuideRecord>& records, const GuidingSettings& settings);
-    // The cell at p, or null (outside the tree, or a leaf that guides neither kind of vertex).
+    // The cell at p, or null (outside the tree, or a leaf with too few records).
     const GuidingCell* lookup(Vec3 p) const;
 
     bool empty() const { return nodes_.empty(); }
     size_t leaves() const;
-    size_t guidingCells() const { return cells_.size(); }
+    size_t cellCount() const { return cells_.size(); }
+    size_t guidingCells() const;  // cells that guide either kind of vertex
     size_t memoryBytes() const { return nodes_.size() * sizeof(Node) + cells_.size() * sizeof(GuidingCell); }
 
     // Its parts, for a checkpoint, and back.

@@ -44,6 +44,14 @@ public:
     bool records(uint32_t pixel, int width, int height) const;
     // Hands in one walk's records (thread-safe: each thread has its own list).
     void add(const GuideRecord* records, int count) const;
+    // The pixel's value as the training passes saw it (channel mean, 3×3 box filtered), for
+    // guided survival once training is over (during training the throughput roulette keeps
+    // every walk that sees light for the records: guided survival there cut the records of
+    // a single-scattering scene to a few); −1 before, or for an image of another size.
+    float pixelEstimate(uint32_t pixel, int width, int height) const {
+        if (training() || width != estimateWidth_ || height != estimateHeight_ || pixelEstimate_.empty()) return -1.0f;
+        return pixelEstimate_[pixel];
+    }
 
     void endPass(const PassSummary& summary);
     std::string saveState() const;
@@ -63,6 +71,10 @@ private:
     int fits_ = 0;
     double learnSeconds_ = 0;
     std::vector<GuideRecord> records_;  // every record so far (until frozen)
+    // The training passes' images, summed (channel means), and their filtered mean.
+    int estimateWidth_ = 0, estimateHeight_ = 0;
+    std::vector<double> pixelSums_;
+    std::vector<float> pixelEstimate_;
     GuidingField field_;
     mutable std::mutex mutex_;
     mutable std::vector<std::unique_ptr<Arena>> arenas_;

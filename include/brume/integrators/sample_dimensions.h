@@ -7,7 +7,8 @@
 //   light subpath start: light pick, emission    kLightStart + kPick, kPosition (2D), kEmitDir (2D)
 //   camera vertex k, light vertex k (the walk    walkVertex(side, k) + kDistance, kChannel,
 //     that leaves vertex k and makes k + 1)        kDirection (2D), kLobe, kRoulette, kGuide
-//                                                  (guided or unguided direction, path_guide.h)
+//                                                  (guided or unguided direction, path_guide.h),
+//                                                  kKeep (whether a dark training record is kept)
 //   connection (s, t) of the BDPT                connection(s, t) + kPick, kLightPoint (2D), kEquiAngular,
 //                                                  kConnect (whether a general connection is made)
 //   pt at camera vertex k: next-event estimate   connection(1, k + 1) (same fields)
@@ -33,7 +34,7 @@ constexpr uint32_t kPosition = 1, kEmitDir = 3;  // after kPick (0)
 constexpr uint32_t kMade = 5;  // whether the light subpath is traced at all (bdpt_light_made)
 
 // Fields of a walk block (8 dimensions a vertex).
-constexpr uint32_t kDistance = 0, kChannel = 1, kDirection = 2, kLobe = 4, kRoulette = 5, kGuide = 6;
+constexpr uint32_t kDistance = 0, kChannel = 1, kDirection = 2, kLobe = 4, kRoulette = 5, kGuide = 6, kKeep = 7;
 // Fields of a connection block (8 dimensions a connection).
 constexpr uint32_t kPick = 0, kLightPoint = 1, kAnchor = 3, kEquiAngular = 5, kConnect = 6;
 

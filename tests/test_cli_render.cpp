@@ -102,6 +102,9 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --max-depth -2", "--max-depth"},
         {data("empty.gltf") + " -o " + out + " --integrator nope", "bdpt"},
         {data("empty.gltf") + " -o " + out + " --connect sometimes", "sometimes"},
+        {data("empty.gltf") + " -o " + out + " --guiding maybe", "--guiding"},
+        {data("empty.gltf") + " -o " + out + " --guiding on --integrator bdpt", "--guiding"},
+        {data("empty.gltf") + " -o " + out + " --guiding on", "--guiding"},  // (auto)
         {data("empty.gltf") + " -o " + out + " --sampler halton", "halton"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
@@ -188,7 +191,8 @@ TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
     for (const char* flags : {"--connect density", "--connect equiangular", "--connect product", "--connect mis",
                               "--connect product --integrator pt", "--connect product --integrator bdpt",
                               "--no-nee --max-depth 3",
-                              "--sampler independent", "--sampler sobol --integrator pt"}) {
+                              "--sampler independent", "--sampler sobol --integrator pt",
+                              "--integrator pt --guiding on --spp 20 --max-depth 3", "--integrator pt --guiding off"}) {
         INFO(flags);
         Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);
         INFO("stderr: " << r.err);

@@ -217,8 +217,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               });
     addOption(app, "--resume", "FILE",
               "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
-              "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis and "
-              "--no-nee must be as before (use the same FILE for --checkpoint to keep saving)",
+              "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis, "
+              "--no-nee and --guiding must be as before (use the same FILE for --checkpoint to keep saving)",
               [&](const std::string& v) { a.resume = nonEmptyFile("--resume", v); });
     // For tests: as if SIGTERM came after N passes. No description: not in the help.
     addOption(app, "--stop-after-passes", "N", "",

@@ -80,7 +80,6 @@ bool fitKind(const GuideRecord* r, size_t n, bool surface, const GuidingSettings
 
 // A leaf's cell from its records, or false if it has too few of either kind.
 bool fitCell(const GuideRecord* r, size_t n, const GuidingSettings& s, GuidingCell* cell) {
-    cell->records = uint32_t(std::min<size_t>(n, ~0u));
     const bool medium = fitKind(r, n, false, s, &cell->medium, &cell->share, &cell->mediumAdjoint);
     const bool surface = fitKind(r, n, true, s, &cell->surface, &cell->surfaceShare, &cell->surfaceAdjoint);
     if (!medium) cell->share = 0;

@@ -13,7 +13,7 @@ namespace brume {
 namespace {
 
 std::atomic<uint64_t> nextId{1};
-constexpr uint32_t kMagic = 0x47445032;  // "GDP2"
+constexpr uint32_t kMagic = 0x47445033;  // "GDP3"
 
 struct ArenaCache {
     uint64_t owner = 0;

@@ -1,6 +1,7 @@
 #include "brume/integrators/path_tracer.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "brume/guiding/guided_phase.h"
 #include "brume/integrators/boundary_walk.h"
@@ -297,6 +298,21 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
 }
 
+// A recording walk's training records (path_guide.h), with the throughput after each
+// recorded vertex and the radiance gathered before it; at most 16 a walk.
+struct TrainingWalk {
+    static constexpr int kMaxRecords = 16;
+    GuideRecord records[kMaxRecords];
+    Spectrum beta[kMaxRecords], L[kMaxRecords];
+    int count = 0;
+    void add(const GuideRecord& r, const Spectrum& betaAfter, const Spectrum& before) {
+        if (count == kMaxRecords) return;
+        records[count] = r;
+        beta[count] = betaAfter;
+        L[count++] = before;
+    }
+};
+
 // Counts the rays a part of a sample traces, and its calls (PathTracerCounts).
 struct PartMeter {
     PathStats& stats;
@@ -337,15 +353,14 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
                            uint32_t(std::min(std::max(int(fx), 0), width - 1));
     const bool training = guide_ && guide_->records(pixel, width, height);
-    constexpr int kMaxRecords = 16;
     // Guided survival (below): the pixel's value as training saw it, and at the last vertex
     // the throughput before its scattering and what its cell says a walk brings back.
     const float pixelValue = field ? guide_->pixelEstimate(pixel, width, height) : -1.0f;
     Spectrum betaBefore(0.0f);
     float adjoint = -1;
-    GuideRecord records[kMaxRecords];
-    Spectrum recordBeta[kMaxRecords], recordL[kMaxRecords];
-    int recordCount = 0;
+    // Made only for a walk that records (an unguided sample does not fill 1.4 KB for nothing).
+    std::optional<TrainingWalk> train;
+    if (training) train.emplace();
     auto counted = [&](PathTracerTechnique t, const Spectrum& v) {
         techniques.add(techniqueSlot(t), v);
         return v;
@@ -443,11 +458,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 wi = sampleHG(ray.d, m->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
                 prevPdf = hgPhase(dot(ray.d, wi), m->g);
             }
-            if (training && recordCount < kMaxRecords) {
+            if (train) {
                 const float phase = hgPhase(dot(ray.d, wi), m->g);
-                records[recordCount] = GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, phase, phase, 0, pixel, uint32_t(depth)};
-                recordBeta[recordCount] = beta;
-                recordL[recordCount++] = L;
+                train->add(GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, phase, phase, 0, pixel, uint32_t(depth)}, beta, L);
             }
             prevP = v.p;
             prevInMedium = true;
@@ -521,12 +534,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
             betaBefore = beta;
             beta *= bs.weight;
-            if (training && recordCount < kMaxRecords && !bs.specular && bs.pdf > 0) {
+            if (train && !bs.specular && bs.pdf > 0) {
                 const Spectrum f = bs.weight * bs.pdf;
-                records[recordCount] = GuideRecord{hit.p, ray.d, bs.wi, 0.0f, bs.pdf, 0.0f, (f.x + f.y + f.z) / 3.0f,
-                                                   share > 0 ? bsdf.pdf(v.wo, bs.wi) : bs.pdf, 1, pixel, uint32_t(depth)};
-                recordBeta[recordCount] = beta;
-                recordL[recordCount++] = L;
+                train->add(GuideRecord{hit.p, ray.d, bs.wi, 0.0f, bs.pdf, 0.0f, (f.x + f.y + f.z) / 3.0f,
+                                       share > 0 ? bsdf.pdf(v.wo, bs.wi) : bs.pdf, 1, pixel, uint32_t(depth)},
+                           beta, L);
             }
             if (bs.transmitted && mesh.interiorMedium >= 0) media.toggle(mesh.interiorMedium);
             specularBounce = bs.specular;
@@ -559,31 +571,32 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             beta /= survive;
         }
     }
-    if (recordCount > 0) {
-        // L_i(p, ω) = (L − L_before) / β_after per channel, their mean; records that saw no
-        // light teach nothing (guiding_field.h) and are not kept.
-        // Records that saw no light are kept one in 8 (counting 8), for the cells' adjoints.
+    if (train && train->count > 0) {
+        // L_i(p, ω) = (L − L_before) / β_after per channel, their mean. Records that saw no
+        // light teach no direction; they are kept one in 8 (counting 8), for the cells'
+        // adjoints (guiding_field.h).
+        TrainingWalk& t = *train;
         int kept = 0;
-        for (int i = 0; i < recordCount; ++i) {
+        for (int i = 0; i < t.count; ++i) {
             double sum = 0;
             int channels = 0;
             for (int c = 0; c < 3; ++c)
-                if (recordBeta[i][c] > 0) {
-                    sum += (double(L[c]) - recordL[i][c]) / recordBeta[i][c];
+                if (t.beta[i][c] > 0) {
+                    sum += (double(L[c]) - t.L[i][c]) / t.beta[i][c];
                     ++channels;
                 }
             const float radiance = channels > 0 ? float(sum / channels) : 0.0f;
             if (!std::isfinite(radiance) || radiance < 0) continue;
             float count = 1;
             if (!(radiance > 0)) {
-                if (sampler.get1D(dim::walkVertex(dim::Side::Camera, int(records[i].vertex)) + dim::kKeep) >= 0.125f) continue;
+                if (sampler.get1D(dim::walkVertex(dim::Side::Camera, int(t.records[i].vertex)) + dim::kKeep) >= 0.125f) continue;
                 count = 8;
             }
-            records[kept] = records[i];
-            records[kept].count = count;
-            records[kept++].radiance = radiance;
+            t.records[kept] = t.records[i];
+            t.records[kept].count = count;
+            t.records[kept++].radiance = radiance;
         }
-        if (kept > 0) guide_->add(records, kept);
+        if (kept > 0) guide_->add(t.records, kept);
     }
     ++stats.counts.pt.samples;
     techniques.addTo(stats.techniques);

@@ -30,7 +30,6 @@ struct GuidingCell {
     // guided survival, path_tracer.cpp): the records' mean of f·L/p, for medium and surface
     // vertices; −1 where too few records of the kind were seen.
     float mediumAdjoint = -1, surfaceAdjoint = -1;
-    uint32_t records = 0;
 };
 
 struct GuidingSettings {
@@ -58,7 +57,6 @@ public:
 
     bool empty() const { return nodes_.empty(); }
     size_t leaves() const;
-    size_t cellCount() const { return cells_.size(); }
     size_t guidingCells() const;  // cells that guide either kind of vertex
     size_t memoryBytes() const { return nodes_.size() * sizeof(Node) + cells_.size() * sizeof(GuidingCell); }
 

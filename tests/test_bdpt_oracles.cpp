@@ -57,7 +57,7 @@ std::vector<Vec3> blockReference(const Scene& scene, const SingleCase& sc, int W
 
 }  // namespace
 
-TEST_CASE("bdpt furnace in every connect mode: every pixel is 1", "[bdpt][oracle]") {
+TEST_CASE("bdpt furnace in every connect mode: every pixel is 1", "[bdpt][oracle][sanitizer-skip]") {
     for (const char* file : {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"}) {
         auto scene = loadTestScene(file);
         for (ConnectMode mode : kConnectModes) {
@@ -86,7 +86,7 @@ TEST_CASE("bdpt furnace with probabilistic general connections: every pixel is 1
     }
 }
 
-TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", "[bdpt][oracle]") {
+TEST_CASE("bdpt single scattering matches 1D quadrature in every connect mode", "[bdpt][oracle][sanitizer-skip]") {
     // A pixel's value is the average over its area (box filter), so the reference averages the
     // quadrature over each 2×2 block (smooth there; the block holding an in-view point light,
     // where radiance has a 1/angle peak, is skipped).

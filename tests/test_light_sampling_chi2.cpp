@@ -377,7 +377,7 @@ TEST_CASE("emissive triangles become lights after the punctual ones", "[light]")
     CHECK(dist.pmf(1) / dist.pmf(2) == Approx(0.75 / 0.37).epsilon(1e-5));
 }
 
-TEST_CASE("triangle light sampling matches its density, by area and by solid angle", "[chi2][light]") {
+TEST_CASE("triangle light sampling matches its density, by area and by solid angle", "[chi2][light][sanitizer-skip]") {
     QuadSetup q = makeQuad();
     Scene single(quadDescription(q, false));
     Scene twoSided(quadDescription(q, true));

@@ -60,7 +60,7 @@ TEST_CASE("furnace: every pixel of an albedo-1 cavity with walls emitting 1 is 1
     }
 }
 
-TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][pt]") {
+TEST_CASE("single scattering matches 1D quadrature at --max-depth 1", "[oracle][pt][sanitizer-skip]") {
     const Vec3 grey02(0.2f), grey005(0.05f);
     SingleCase cases[] = {
         {"single_near.gltf", Vec3(0.3f, 0.2f, -3), grey02, grey005, 0.3, false},

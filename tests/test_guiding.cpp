@@ -105,7 +105,11 @@ TEST_CASE("guided pt, guiding forced on: furnace pixels are 1", "[guiding][oracl
     for (const char* file : {"furnace_ambient.gltf", "furnace_bounded.gltf", "furnace_albedo.gltf"}) {
         auto scene = loadTestScene(file);
         for (ConnectMode mode : kConnectModes) {
-            PathTracer pt(guided(-1, mode, 0.75f));
+            // The share 1/2, the largest a cell can learn. (At 3/4 a phase-sampled direction
+            // may weigh up to 1/(1 − 3/4) = 4, and in a furnace, where only the roulette ends
+            // walks, the second moment can then grow by albedo² · 4 an event: the variance is
+            // infinite and no z-test holds; 2 of 6 seeds failed so, none at 1/2.)
+            PathTracer pt(guided(-1, mode, 0.5f));
             const GuidingReport report = train(*scene, pt, 48, 48);
             INFO(file << " " << connectModeName(mode) << ": " << report.text());
             REQUIRE(report.cells > 0);  // guiding is on somewhere
@@ -177,6 +181,98 @@ TEST_CASE("guided pt agrees with pt at full depth (guided directions and guided 
         INFO(where << " (z = " << worst << ")");
         CHECK(worst < zBound(3 * int(a.size())));
     }
+}
+
+TEST_CASE("guided pt's training passes agree with pt (survival by the larger of guided and throughput roulette)",
+          "[guiding][heavy]") {
+    // The training passes alone, each batch with a guide of its own (fits after passes 1, 2,
+    // 4 and 8; from pass 2 on walks survive by the larger of the two roulettes).
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    const int W = 32, block = 4, batches = 16;
+    auto a = estimateFilm(*scene, PathTracer(PathTracerOptions{-1, true, ConnectMode::Mis}), W, W, 16, batches, 1, block);
+    std::vector<PixelEstimate> b(a.size());
+    for (int k = 0; k < batches; ++k) {
+        PathTracer pt(guided(-1, ConnectMode::Mis, 0.5f));
+        Film film(W, W);
+        RenderOptions o;
+        o.width = o.height = W;
+        o.spp = PathGuide::kLastFitPass;
+        o.seed = 7000 + uint64_t(k);
+        o.threads = 2;
+        render(*scene, pt, o, film);
+        REQUIRE(pt.guide()->report().cells > 0);
+        for (int by = 0; by < W / block; ++by)
+            for (int bx = 0; bx < W / block; ++bx) {
+                Spectrum v(0.0f);
+                for (int y = 0; y < block; ++y)
+                    for (int x = 0; x < block; ++x) v += film.pixel(bx * block + x, by * block + y);
+                v = v / float(block * block);
+                PixelEstimate& e = b[size_t(by) * size_t(W / block) + size_t(bx)];
+                for (int c = 0; c < 3; ++c) {
+                    e.sum[c] += v[c];
+                    e.sum2[c] += double(v[c]) * v[c];
+                }
+                ++e.n;
+            }
+    }
+    double worst = 0;
+    std::string where;
+    for (size_t i = 0; i < a.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
+            const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
+            if (z > worst) {
+                worst = z;
+                where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " + std::to_string(a[i].mean(c)) +
+                        " training " + std::to_string(b[i].mean(c));
+            }
+        }
+    INFO(where << " (z = " << worst << ")");
+    CHECK(worst < zBound(3 * int(a.size())));
+}
+
+TEST_CASE("the training passes are left out once the guided passes are measured to be better", "[guiding]") {
+    // Synthetic passes of a 16×8 image around 1: training passes with noise 0.5, guided ones
+    // with noise 0.1, so the measured noise ratio should be about 25 (pairs of 8 and 8).
+    PathGuide guide;
+    const int W = 16, H = 8;
+    std::mt19937 rng(11);
+    std::normal_distribution<float> normal;
+    std::vector<Spectrum> image(size_t(W * H));
+    std::vector<FixedSum> expected(size_t(3 * W * H), FixedSum(0));
+    auto pass = [&](int index, float noise) {
+        for (Spectrum& v : image) v = Spectrum(1.0f + noise * normal(rng));
+        PassSummary s;
+        s.pass = index;
+        s.complete = true;
+        s.width = W;
+        s.height = H;
+        s.radiance = image.data();
+        if (guide.training())
+            for (size_t i = 0; i < image.size(); ++i)
+                for (int c = 0; c < 3; ++c) expected[3 * i + size_t(c)] += toFixed(image[i][c]);
+        guide.endPass(s);
+    };
+    for (int k = 0; k < PathGuide::kLastFitPass; ++k) {
+        CHECK(guide.leftOut().passes == 0);  // not while training
+        pass(k, 0.5f);
+    }
+    REQUIRE_FALSE(guide.training());
+    Integrator::LeftOutPasses out = guide.leftOut();
+    CHECK(out.passes == PathGuide::kLastFitPass);
+    CHECK(out.noise == 0);  // no guided pairs yet: only outnumbered, they may be left out
+    REQUIRE(out.sums);
+    CHECK(*out.sums == expected);
+    for (int k = 0; k < 16; ++k) pass(PathGuide::kLastFitPass + k, 0.1f);
+    out = guide.leftOut();
+    INFO("noise ratio " << out.noise);
+    CHECK(out.noise > 15);
+    CHECK(out.noise < 40);
+    // A resumed guide gives the same.
+    PathGuide again;
+    again.loadState(guide.saveState());
+    CHECK(again.leftOut().noise == out.noise);
+    CHECK(*again.leftOut().sums == expected);
 }
 
 TEST_CASE("the guided share is learned: none where light comes equally from everywhere", "[guiding]") {

@@ -13,7 +13,7 @@ namespace brume {
 namespace {
 
 std::atomic<uint64_t> nextId{1};
-constexpr uint32_t kMagic = 0x47445033;  // "GDP3"
+constexpr uint32_t kMagic = 0x47445034;  // "GDP4"
 
 struct ArenaCache {
     uint64_t owner = 0;
@@ -55,8 +55,11 @@ void PathGuide::endPass(const PassSummary& summary) {
             a->records.clear();
         }
     }
-    if (!summary.complete || !training()) return;
+    if (!summary.complete) return;
+    if (!training()) return measureNoise(summary, false);
     ++passes_;
+    if (summary.radiance) addPassExact(summary, trainingSums_);
+    measureNoise(summary, true);
     if (summary.radiance) {
         const size_t n = size_t(summary.width) * size_t(summary.height);
         if (summary.width != estimateWidth_ || summary.height != estimateHeight_) {
@@ -86,6 +89,7 @@ void PathGuide::endPass(const PassSummary& summary) {
     // The pixel estimate: the mean of the training passes, 3×3 box filtered (one sample a
     // pass is noisy; guided survival needs its scale, not its detail).
     pixelEstimate_.assign(pixelSums_.size(), 0.0f);
+    meanEstimate_ = -1;
     for (int y = 0; y < estimateHeight_; ++y)
         for (int x = 0; x < estimateWidth_; ++x) {
             double sum = 0;
@@ -101,7 +105,60 @@ void PathGuide::endPass(const PassSummary& summary) {
         }
     ++fits_;
     learnSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!training()) records_ = std::vector<GuideRecord>();  // frozen: the records are not needed again
+    if (!training()) {  // frozen: the records are not needed again; the training pairs' noise
+        records_ = std::vector<GuideRecord>();
+        pairFirst_ = std::vector<float>();
+        trainingNoise_ = 0;
+        if (trainingPairs_.size() == pixelEstimate_.size())
+            for (size_t i = 0; i < trainingPairs_.size(); ++i) trainingNoise_ += trainingPairs_[i] * noiseWeight(i);
+        trainingPairs_ = std::vector<double>();
+    }
+}
+
+// w_px = 1 / (I_px² + (Ī/10)²) (path_guide.h, leftOut).
+double PathGuide::noiseWeight(size_t pixel) const {
+    if (!(meanEstimate_ >= 0)) {
+        double sum = 0;
+        for (float v : pixelEstimate_) sum += v;
+        meanEstimate_ = pixelEstimate_.empty() ? 0.0 : sum / double(pixelEstimate_.size());
+    }
+    const double I = pixelEstimate_[pixel], floor = 0.1 * meanEstimate_;
+    const double d = I * I + floor * floor;
+    return d > 0 ? 1.0 / d : 0.0;
+}
+
+// Pairs of consecutive passes of one kind: the first pass's image is kept, the second's
+// difference from it added (path_guide.h, leftOut).
+void PathGuide::measureNoise(const PassSummary& summary, bool trainingPass) {
+    if (!summary.radiance || (!trainingPass && guidedPasses_ >= 2 * kNoisePairs)) return;
+    const size_t n = size_t(summary.width) * size_t(summary.height);
+    if (!trainingPass && pixelEstimate_.size() != n) return;
+    auto mean = [&](size_t i) {
+        const Spectrum& L = summary.radiance[i];
+        return (L.x + L.y + L.z) / 3.0f;
+    };
+    if (!trainingPass) ++guidedPasses_;
+    if (pairFirst_.size() != n) {
+        pairFirst_.resize(n);
+        for (size_t i = 0; i < n; ++i) pairFirst_[i] = mean(i);
+        return;
+    }
+    if (trainingPass) {
+        if (trainingPairs_.size() != n) trainingPairs_.assign(n, 0.0);
+        for (size_t i = 0; i < n; ++i) trainingPairs_[i] += double(mean(i) - pairFirst_[i]) * double(mean(i) - pairFirst_[i]);
+        ++trainingPairCount_;
+    } else {
+        for (size_t i = 0; i < n; ++i) guidedNoise_ += double(mean(i) - pairFirst_[i]) * double(mean(i) - pairFirst_[i]) * noiseWeight(i);
+    }
+    pairFirst_ = std::vector<float>();
+}
+
+Integrator::LeftOutPasses PathGuide::leftOut() const {
+    if (training() || passes_ <= 0 || trainingSums_.empty()) return {};
+    double noise = 0;
+    if (guidedPasses_ >= 2 * kNoisePairs && guidedNoise_ > 0 && trainingPairCount_ > 0)
+        noise = (trainingNoise_ / trainingPairCount_) / (guidedNoise_ / kNoisePairs);
+    return Integrator::LeftOutPasses{passes_, &trainingSums_, noise};
 }
 
 std::string PathGuide::saveState() const {
@@ -114,6 +171,13 @@ std::string PathGuide::saveState() const {
     putBytes(out, int32_t(estimateHeight_));
     putVector(out, pixelSums_);
     putVector(out, pixelEstimate_);
+    putVector(out, trainingSums_);
+    putVector(out, pairFirst_);
+    putVector(out, trainingPairs_);
+    putBytes(out, trainingNoise_);
+    putBytes(out, guidedNoise_);
+    putBytes(out, int32_t(trainingPairCount_));
+    putBytes(out, int32_t(guidedPasses_));
     putBytes(out, field_.lower());
     putBytes(out, field_.upper());
     putVector(out, field_.nodes());
@@ -131,8 +195,19 @@ void PathGuide::loadState(const std::string& state) {
     estimateHeight_ = in.get<int32_t>();
     pixelSums_ = in.getVector<double>(size_t(1) << 31);
     pixelEstimate_ = in.getVector<float>(size_t(1) << 31);
+    trainingSums_ = in.getVector<FixedSum>(size_t(3) << 31);
+    pairFirst_ = in.getVector<float>(size_t(1) << 31);
+    trainingPairs_ = in.getVector<double>(size_t(1) << 31);
+    trainingNoise_ = in.get<double>();
+    guidedNoise_ = in.get<double>();
+    trainingPairCount_ = in.get<int32_t>();
+    guidedPasses_ = in.get<int32_t>();
+    meanEstimate_ = -1;
     const size_t pixels = size_t(std::max(estimateWidth_, 0)) * size_t(std::max(estimateHeight_, 0));
-    if (pixelSums_.size() != pixels || (!pixelEstimate_.empty() && pixelEstimate_.size() != pixels))
+    auto sized = [&](size_t size, size_t per) { return size == 0 || size == per * pixels; };
+    if (pixelSums_.size() != pixels || !sized(pixelEstimate_.size(), 1) || !sized(trainingSums_.size(), 3) ||
+        !sized(pairFirst_.size(), 1) || !sized(trainingPairs_.size(), 1) || trainingPairCount_ < 0 || guidedPasses_ < 0 ||
+        !(trainingNoise_ >= 0) || !(guidedNoise_ >= 0))
         throw std::runtime_error("guiding state is malformed");
     const Vec3 lo = in.get<Vec3>(), hi = in.get<Vec3>();
     auto nodes = in.getVector<GuidingField::Node>(size_t(1) << 26);

@@ -556,17 +556,22 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         // A is an estimate, and a walk it calls worthless may not be). Unbiased for any
         // survival probability above 0. Grey media only (coloured ones keep the throughput
         // roulette that bounds every channel's weight), and up to kGuidedDepth events, where
-        // the throughput roulette (and its cap below 1) takes over again.
+        // the throughput roulette (and its cap below 1) takes over again. During training the
+        // larger of the two survivals: guided survival alone cut the records of a
+        // single-scattering scene to a few, while the throughput roulette alone made the
+        // training passes the noisiest part of the image (on a lamp behind a doorway, each
+        // had 3.2 times a guided pass's variance).
         constexpr float kWindow = 3.0f, kMinSurvival = 0.05f;
         constexpr int kGuidedDepth = 32;
         const bool coloured = scene.mediumChannels() > 1;
-        if (adjoint >= 0 && pixelValue > 0 && !coloured && depth < kGuidedDepth) {
-            const float expected = (betaBefore.x + betaBefore.y + betaBefore.z) / 3.0f * adjoint;
-            const float survive = std::clamp(kWindow * expected / pixelValue, kMinSurvival, 1.0f);
-            if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
-            beta /= survive;
-        } else if (depth >= 3) {  // Russian roulette after three events (sample_dimensions.h: kRoulette).
-            float survive = rouletteSurvival(beta, 1.0f, depth, coloured);
+        const bool guidedSurvival = adjoint >= 0 && pixelValue > 0 && !coloured && depth < kGuidedDepth;
+        if (guidedSurvival || depth >= 3) {  // (throughput roulette after three events, sample_dimensions.h: kRoulette)
+            float survive = depth >= 3 ? rouletteSurvival(beta, 1.0f, depth, coloured) : 1.0f;
+            if (guidedSurvival) {
+                const float expected = (betaBefore.x + betaBefore.y + betaBefore.z) / 3.0f * adjoint;
+                const float guided = std::clamp(kWindow * expected / pixelValue, kMinSurvival, 1.0f);
+                survive = guide_->training() ? std::max(survive, guided) : guided;
+            }
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;
         }

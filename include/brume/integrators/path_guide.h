@@ -44,14 +44,26 @@ public:
     bool records(uint32_t pixel, int width, int height) const;
     // Hands in one walk's records (thread-safe: each thread has its own list).
     void add(const GuideRecord* records, int count) const;
-    // The pixel's value as the training passes saw it (channel mean, 3×3 box filtered), for
-    // guided survival once training is over (during training the throughput roulette keeps
-    // every walk that sees light for the records: guided survival there cut the records of
-    // a single-scattering scene to a few); −1 before, or for an image of another size.
+    // The pixel's value as the training passes so far saw it (channel mean, 3×3 box
+    // filtered), for guided survival; −1 before the first fit, or for an image of another
+    // size. (During training the path tracer survives by the larger of this and the
+    // throughput roulette, so no walk the records need is cut more often than before.)
     float pixelEstimate(uint32_t pixel, int width, int height) const {
-        if (training() || width != estimateWidth_ || height != estimateHeight_ || pixelEstimate_.empty()) return -1.0f;
+        if (width != estimateWidth_ || height != estimateHeight_ || pixelEstimate_.empty()) return -1.0f;
         return pixelEstimate_[pixel];
     }
+    bool training() const { return passes_ < kLastFitPass && records_.size() < kMaxRecords; }
+
+    // The training passes, which the image may leave out (Integrator::leftOut, renderer.h
+    // finalImage): their walks are unguided or guided by early fits and end by the
+    // throughput roulette, so once the guided passes outnumber them they mostly add noise.
+    // Their noise per pass over the guided passes' is measured on pairs of consecutive
+    // passes (training passes 1–16, guided passes 17–32):
+    //   noise = mean_pairs Σ_px (L_a − L_b)² w_px  over the same for the guided pairs,
+    //   w_px = 1 / (I_px² + (Ī/10)²)
+    // with I the frozen pixel estimate (relative errors, as the image's relative MSE weighs
+    // them); 0 until 8 guided pairs are seen.
+    Integrator::LeftOutPasses leftOut() const;
 
     void endPass(const PassSummary& summary);
     std::string saveState() const;
@@ -63,7 +75,9 @@ private:
         std::vector<GuideRecord> records;
     };
     Arena& arena() const;
-    bool training() const { return passes_ < kLastFitPass && records_.size() < kMaxRecords; }
+    void measureNoise(const PassSummary& summary, bool trainingPass);
+    double noiseWeight(size_t pixel) const;
+    static constexpr int kNoisePairs = 8;
 
     uint64_t id_;
     GuidingSettings settings_;
@@ -75,6 +89,14 @@ private:
     int estimateWidth_ = 0, estimateHeight_ = 0;
     std::vector<double> pixelSums_;
     std::vector<float> pixelEstimate_;
+    // leftOut: the training passes' exact sums; the pair noise measure (previous pass's
+    // channel means, the training pairs' squared differences per pixel, weighted sums).
+    std::vector<FixedSum> trainingSums_;
+    std::vector<float> pairFirst_;
+    std::vector<double> trainingPairs_;
+    double trainingNoise_ = 0, guidedNoise_ = 0;
+    int trainingPairCount_ = 0, guidedPasses_ = 0;
+    mutable double meanEstimate_ = -1;  // Ī, once the estimate is frozen
     GuidingField field_;
     mutable std::mutex mutex_;
     mutable std::vector<std::unique_ptr<Arena>> arenas_;

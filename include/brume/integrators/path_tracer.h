@@ -49,6 +49,8 @@ public:
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
     }
+    // The guide's training passes, once the guided ones outnumber them (path_guide.h).
+    LeftOutPasses leftOut() const override { return guide_ ? guide_->leftOut() : LeftOutPasses{}; }
     std::string saveState() const override { return guide_ ? guide_->saveState() : std::string(); }
     void loadState(const std::string& state) override {
         if (guide_) guide_->loadState(state);

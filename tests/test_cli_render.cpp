@@ -103,7 +103,7 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --integrator nope", "bdpt"},
         {data("empty.gltf") + " -o " + out + " --connect sometimes", "sometimes"},
         {data("empty.gltf") + " -o " + out + " --guiding maybe", "--guiding"},
-        {data("empty.gltf") + " -o " + out + " --guiding on --integrator bdpt", "--guiding"},
+        {data("empty.gltf") + " -o " + out + " --guiding on --integrator bdpt --strategy-images " + quote(dir / "s"), "--guiding"},
         {data("empty.gltf") + " -o " + out + " --guiding on", "--guiding"},  // (auto)
         {data("empty.gltf") + " -o " + out + " --sampler halton", "halton"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
@@ -192,7 +192,8 @@ TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
                               "--connect product --integrator pt", "--connect product --integrator bdpt",
                               "--no-nee --max-depth 3",
                               "--sampler independent", "--sampler sobol --integrator pt",
-                              "--integrator pt --guiding on --spp 20 --max-depth 3", "--integrator pt --guiding off"}) {
+                              "--integrator pt --guiding on --spp 20 --max-depth 3", "--integrator pt --guiding off",
+                              "--integrator bdpt --guiding on --spp 20 --max-depth 3", "--integrator bdpt --guiding on --spp 20"}) {
         INFO(flags);
         Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);
         INFO("stderr: " << r.err);

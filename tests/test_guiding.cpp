@@ -12,6 +12,7 @@
 
 #include "brume/film/film.h"
 #include "brume/guiding/guided_phase.h"
+#include "brume/integrators/bdpt.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/renderer.h"
 #include "support/block_z.h"
@@ -183,6 +184,47 @@ TEST_CASE("guided pt agrees with pt at full depth (guided directions and guided 
     }
 }
 
+TEST_CASE("bdpt with guided survival of the camera walk agrees with pt at full depth", "[guiding][bdpt][heavy]") {
+    // The guide trained by bdpt's own first passes (the guided path tracer's), then bdpt's
+    // passes, whose camera walks survive by the field, against the plain path tracer.
+    for (const char* file : {"bdpt_window_fog.gltf", "quad_light_fog.gltf"}) {
+        auto scene = loadTestScene(file);
+        const int W = 32;
+        BdptOptions o;
+        o.connect = ConnectMode::Mis;
+        o.guiding = true;
+        BdptIntegrator bdpt(o);
+        {
+            Film film(W, W);
+            RenderOptions ro;
+            ro.width = ro.height = W;
+            ro.spp = PathGuide::kLastFitPass;
+            ro.seed = 3;
+            ro.threads = 2;
+            render(*scene, bdpt, ro, film);
+        }
+        REQUIRE(bdpt.guide());
+        REQUIRE_FALSE(bdpt.guide()->training());
+        INFO(file << ": " << bdpt.guide()->report().text());
+        auto a = estimateFilm(*scene, PathTracer(PathTracerOptions{-1, true, ConnectMode::Mis}), W, W, 64, 16, 1, 4);
+        auto b = estimateFilm(*scene, bdpt, W, W, 32, 16, 2, 4);
+        double worst = 0;
+        std::string where;
+        for (size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
+                const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
+                if (z > worst) {
+                    worst = z;
+                    where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " +
+                            std::to_string(a[i].mean(c)) + " bdpt " + std::to_string(b[i].mean(c));
+                }
+            }
+        INFO(where << " (z = " << worst << ")");
+        CHECK(worst < zBound(3 * int(a.size())));
+    }
+}
+
 TEST_CASE("guided pt's training passes agree with pt (survival by the larger of guided and throughput roulette)",
           "[guiding][heavy]") {
     // The training passes alone, each batch with a guide of its own (fits after passes 1, 2,
@@ -316,4 +358,35 @@ TEST_CASE("guided pt: the same seed gives the same image for any thread count, a
     CHECK(renderWith(3, 24, false) == one);
     CHECK(renderWith(2, 5, true) == one);   // mid-training (after the fit at 4)
     CHECK(renderWith(2, 16, true) == one);  // frozen
+}
+
+TEST_CASE("guided bdpt: the same seed gives the same image for any thread count, and after a resume", "[guiding][bdpt]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    BdptOptions options;
+    options.connect = ConnectMode::Mis;
+    options.guiding = true;
+    auto renderWith = [&](int threads, int stopAt, bool resume) {
+        BdptIntegrator bdpt(options);
+        Film film(24, 16);
+        RenderOptions o;
+        o.width = 24;
+        o.height = 16;
+        o.seed = 5;
+        o.threads = threads;
+        o.spp = stopAt;
+        render(*scene, bdpt, o, film);
+        if (resume) {
+            BdptIntegrator again(options);
+            again.loadState(bdpt.saveState());
+            o.spp = 40 - stopAt;
+            render(*scene, again, o, film);
+            return finalImage(film, again, o.sampler);
+        }
+        return finalImage(film, bdpt, o.sampler);
+    };
+    const std::vector<float> one = renderWith(1, 40, false);
+    CHECK(renderWith(2, 40, false) == one);
+    CHECK(renderWith(2, 5, true) == one);   // mid-training
+    CHECK(renderWith(2, 18, true) == one);  // during light tracing's learning passes
+    CHECK(renderWith(2, 30, true) == one);  // measuring the noise
 }

@@ -199,8 +199,10 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
               [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
     addOption(app, "--guiding", "on|off",
-              "pt: path guiding, directions at medium vertices drawn from a radiance field learned in the first "
-              "16 passes, combined with phase sampling (docs/path-guiding.md); off by default",
+              "pt and bdpt: path guiding from a radiance field learned in the first 16 passes (docs/path-guiding.md): "
+              "pt draws directions from it, combined with phase and BSDF sampling, and both end walks by what it "
+              "expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of pt); off "
+              "by default",
               [&](const std::string& v) {
                   if (v == "on") a.guiding = true;
                   else if (v == "off") a.guiding = false;
@@ -239,7 +241,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
             throw UsageError("--allocation: unknown allocation '" + a.allocation + "' (available: " + names + ")");
         }
     }
-    if (a.guiding && a.integrator != "pt") throw UsageError("--guiding on needs --integrator pt");
+    if (a.guiding && a.integrator == "auto") throw UsageError("--guiding on needs --integrator pt or bdpt");
+    if (a.guiding && !a.strategyDir.empty()) throw UsageError("--strategy-images and --guiding on exclude each other");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
@@ -580,10 +583,12 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
         // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h).
         const bool learns = a.integrator == "bdpt" && static_cast<const BdptIntegrator&>(integrator).directLightTracing();
-        // So does the path tracer its guide's training passes (path_guide.h).
+        // So do the path tracer and bdpt their guide's training passes (path_guide.h), bdpt's
+        // before its passes that learn light tracing's share.
+        const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
         plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1)
-                        : learns                    ? std::max(donePasses, DirectLightTracing::kPasses)
-                        : a.guiding                 ? std::max(donePasses, PathGuide::kLastFitPass)
+                        : learns                    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
+                        : a.guiding                 ? std::max(donePasses, guidePasses)
                                                     : donePasses;
         options.progress = false;
         auto interrupted = [&] {
@@ -634,7 +639,9 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;  // (null: bdpt)
     const DirectLightTracing* direct =
         a.integrator != "pt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
-    const PathGuide* guide = a.integrator == "pt" ? static_cast<const PathTracer&>(integrator).guide() : nullptr;
+    const PathGuide* guide = a.integrator == "pt"     ? static_cast<const PathTracer&>(integrator).guide()
+                             : a.integrator == "bdpt" ? static_cast<const BdptIntegrator&>(integrator).guide()
+                                                      : nullptr;
     if (!a.strategyDir.empty() && !gInterrupted.load())
         writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 

@@ -31,7 +31,9 @@ struct Subpaths {
 }  // namespace
 
 BdptIntegrator::BdptIntegrator(BdptOptions options)
-    : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect}) {
+    : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding}) {
+    if (options_.guiding && options_.efficiencyAware)
+        throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
     // (direct_light_tracing.h); so does auto in single scattering, where its duel sets the
     // pilot's allocation with the share against the path tracer (allocation_planner.h). In
@@ -53,7 +55,8 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
 BdptIntegrator::~BdptIntegrator() = default;
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
-    learningDirect_ = direct_ && direct_->learning(pass);
+    guideTraining_ = options_.guiding && pathTracer_.guide()->training();
+    learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass - guidePasses());
     usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
     if (!planner_) return;
     if (direct_) planner_->setLightShare(direct_->subpathShare());
@@ -73,20 +76,37 @@ double BdptIntegrator::lightSubpathsMade() const {
 // The learning passes of light tracing's factor sample independently, like the planner's
 // pilot (their spread then measures a pass's variance exactly), and take no Sobol index: the
 // passes after them start the sequence at 0, whole, when the image leaves them out.
+// With guiding, the guide's training passes come first, with sequence indices of their own;
+// the bidirectional passes after them start their sequence at 0 (the image leaves the
+// training passes out once outnumbered, path_guide.h).
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
     if (planner_) return planner_->samplerFor(pass, requested);
+    if (pass < guidePasses()) return requested;
+    pass -= guidePasses();
     if (direct_) return pass < DirectLightTracing::kPasses ? SamplerKind::Independent : requested;
     return requested;
 }
 
 uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
     if (planner_) return planner_->sequenceIndex(pass, kind);
+    if (pass < guidePasses()) return uint64_t(pass);
+    pass -= guidePasses();
     if (direct_)
         return uint64_t(kind == SamplerKind::Sobol && pass >= DirectLightTracing::kPasses ? pass - DirectLightTracing::kPasses : pass);
     return uint64_t(pass);
 }
 
 Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
+    // With guiding: the guide's training passes, with light tracing's learning passes when
+    // they are left out too (the noise measured by the guide).
+    if (options_.guiding) {
+        const LeftOutPasses guide = pathTracer_.leftOut();
+        if (guide.passes == 0 || !direct_ || direct_->passes() != DirectLightTracing::kPasses) return guide;
+        leftOutSums_ = *guide.sums;
+        const std::vector<FixedSum>& own = direct_->passSums();
+        for (size_t i = 0; i < leftOutSums_.size() && i < own.size(); ++i) leftOutSums_[i] += own[i];
+        return LeftOutPasses{guide.passes + direct_->passes(), &leftOutSums_, guide.noise};
+    }
     // The learning passes of light tracing's factor, once learned (independent numbers, with
     // c = 1; their noise against the others' is not measured).
     if (!planner_ && direct_ && direct_->passes() == DirectLightTracing::kPasses)
@@ -95,9 +115,28 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
-// State: the planner's (auto), then "BDL1" and light tracing's share if it learns one (bdpt,
-// and auto in single scattering); with both, the planner's is preceded by its length (u64).
+// State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; then
+// the planner's (auto), then "BDL1" and light tracing's share if it learns one (bdpt, and
+// auto in single scattering); with both, the planner's is preceded by its length (u64).
 std::string BdptIntegrator::saveState() const {
+    if (!options_.guiding) return saveOwnState();
+    std::string out = "BDG1";
+    const std::string guide = pathTracer_.saveState();
+    putBytes(out, uint64_t(guide.size()));
+    return out + guide + saveOwnState();
+}
+
+void BdptIntegrator::loadState(const std::string& state) {
+    if (!options_.guiding) return loadOwnState(state);
+    if (state.compare(0, 4, "BDG1") != 0) throw std::runtime_error("guiding state is malformed");
+    StateReader reader{state, 4};
+    const uint64_t n = reader.get<uint64_t>();
+    if (n > state.size() - reader.at) throw std::runtime_error("guiding state is malformed");
+    pathTracer_.loadState(state.substr(reader.at, size_t(n)));
+    loadOwnState(state.substr(reader.at + size_t(n)));
+}
+
+std::string BdptIntegrator::saveOwnState() const {
     std::string out;
     if (planner_) {
         const std::string planner = planner_->saveState();
@@ -112,7 +151,7 @@ std::string BdptIntegrator::saveState() const {
     return out;
 }
 
-void BdptIntegrator::loadState(const std::string& state) {
+void BdptIntegrator::loadOwnState(const std::string& state) {
     if (planner_ && !direct_) return planner_->loadState(state);
     if (!direct_) {
         if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
@@ -139,7 +178,7 @@ void BdptIntegrator::loadState(const std::string& state) {
 
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
                                           Sampler& sampler, PathStats& stats, SplatList& splats) const {
-    if (options_.allocation.pathTracer) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
+    if (options_.allocation.pathTracer || guideTraining_) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
     thread_local Subpaths paths;
     PathVertex* camera = paths.camera.data();
     PathVertex* light = paths.light.data();
@@ -168,8 +207,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int channels = scene.mediumChannels();
     const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
     const uint64_t rays0 = stats.rays;
+    // Guided survival of the camera walk, after the guide's training passes.
+    const PathGuide* guide = options_.guiding ? pathTracer_.guide() : nullptr;
+    const GuidingField* field = guide ? guide->field() : nullptr;
+    const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
+                           uint32_t(std::min(std::max(int(fx), 0), width - 1));
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
-                                          camera, stats);
+                                          camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f);
     const uint64_t rays1 = stats.rays;
     // The light subpaths of a pass splat all over the image: their numbers come from one
     // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
@@ -266,7 +310,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     return L;
 }
 
-void BdptIntegrator::endPass(const Scene&, const PassSummary& summary) {
+void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
+    if (options_.guiding) pathTracer_.endPass(scene, summary);  // training, then the noise of the passes after it
+    if (guideTraining_) return;
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
     if (planner_) {
         if (direct_) planner_->setLightShare(direct_->subpathShare());

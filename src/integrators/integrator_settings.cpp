@@ -28,6 +28,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.generalEquiAngular = s.generalEquiAngular;
     o.allocation = s.allocation;
     o.efficiencyAware = s.kind == IntegratorKind::EfficiencyAware && !variantOnly(s.connect);
+    o.guiding = s.guiding;
     return o;
 }
 

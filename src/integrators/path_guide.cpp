@@ -133,14 +133,17 @@ void PathGuide::measureNoise(const PassSummary& summary, bool trainingPass) {
     if (!summary.radiance || (!trainingPass && guidedPasses_ >= 2 * kNoisePairs)) return;
     const size_t n = size_t(summary.width) * size_t(summary.height);
     if (!trainingPass && pixelEstimate_.size() != n) return;
-    auto mean = [&](size_t i) {
-        const Spectrum& L = summary.radiance[i];
-        return (L.x + L.y + L.z) / 3.0f;
-    };
+    // The pass's image, channel means, with its splats (a bidirectional pass's light tracing).
+    std::vector<float> image(n);
+    for (size_t i = 0; i < n; ++i) image[i] = (summary.radiance[i].x + summary.radiance[i].y + summary.radiance[i].z) / 3.0f;
+    for (int l = 0; l < summary.splatLists; ++l)
+        for (const SplatList::Record& r : summary.splats[l].records())
+            if (r.x >= 0 && r.y >= 0 && r.x < summary.width && r.y < summary.height)
+                image[size_t(r.y) * size_t(summary.width) + size_t(r.x)] += (r.value.x + r.value.y + r.value.z) / 3.0f;
+    auto mean = [&](size_t i) { return image[i]; };
     if (!trainingPass) ++guidedPasses_;
     if (pairFirst_.size() != n) {
-        pairFirst_.resize(n);
-        for (size_t i = 0; i < n; ++i) pairFirst_[i] = mean(i);
+        pairFirst_ = std::move(image);
         return;
     }
     if (trainingPass) {

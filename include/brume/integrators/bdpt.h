@@ -64,6 +64,10 @@ struct BdptOptions {
     // tracing, all strategies); otherwise this factor (e.g. the learned one, for the strategy
     // images of a render).
     double directLightTracing = -1.0;
+    // Path guiding (`--guiding on`, docs/path-guiding.md): the first PathGuide::kLastFitPass
+    // passes are the guided path tracer's training passes; after them the camera walk
+    // survives by the learned field (guided survival). Not with efficiencyAware.
+    bool guiding = false;
 
     // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general
     // connections with probability 1/4, by default.
@@ -103,6 +107,8 @@ public:
     const AllocationPlanner* planner() const { return planner_.get(); }
     // Light tracing's learned share of one-event paths (direct_light_tracing.h).
     const DirectLightTracing* directLightTracing() const { return direct_.get(); }
+    // The guide (`guiding`; else null), for --stats.
+    const PathGuide* guide() const { return options_.guiding ? pathTracer_.guide() : nullptr; }
     // The probability that a sample of the pass in force traces a light subpath: with
     // --max-depth 1, where light subpaths serve light tracing alone, its learned subpath share
     // (DirectLightTracing::subpathShare; camera connections then count that many times in the
@@ -118,6 +124,12 @@ private:
     std::unique_ptr<DirectLightTracing> direct_;
     bool learningDirect_ = false;  // this pass gathers direct_'s images
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
+    bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
+    mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
+    // Passes before the bidirectional tracer's own: the guide's training passes.
+    int guidePasses() const { return options_.guiding ? PathGuide::kLastFitPass : 0; }
+    std::string saveOwnState() const;
+    void loadOwnState(const std::string& state);
 };
 
 }  // namespace brume

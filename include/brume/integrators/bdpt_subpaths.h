@@ -3,6 +3,7 @@
 // the light vertex y0 itself, which the light connection (s = 1) also makes from a fresh light
 // sample.
 #pragma once
+#include "brume/guiding/guiding_field.h"
 #include "brume/integrators/path_vertex.h"
 
 namespace brume {
@@ -22,9 +23,11 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 // Camera subpath through film position (fx, fy); at most maxScatter vertices past z0. From
 // vertex passFrom on, and at passFirstAt after a vertex that is not specular, the walk passes
 // through media (WalkStart). Returns the vertex count, z0 included. hero: the colour channel
-// that drives free flight in coloured media (both subpaths of a sample share it).
+// that drives free flight in coloured media (both subpaths of a sample share it). guide and
+// pixelValue: guided survival (WalkStart).
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
-                       int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats);
+                       int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
+                       const GuidingField* guide = nullptr, float pixelValue = -1.0f);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing).

@@ -22,7 +22,7 @@ struct IntegratorSettings {
     int maxDepth = -1;  // most scattering events on a path; −1 = unlimited
     // The path tracer: false renders by phase and BSDF sampling alone (tests).
     bool nextEventEstimation = true;
-    // The path tracer: path guiding (`--guiding on`, path_tracer.h).
+    // Path guiding (`--guiding on`, path_tracer.h and bdpt.h; not with EfficiencyAware).
     bool guiding = false;
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two

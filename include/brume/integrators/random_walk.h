@@ -1,6 +1,7 @@
 // Extends a camera or light subpath by free-flight and BSDF/phase sampling, recording each
 // vertex with its forward and reverse area densities (path_vertex.h).
 #pragma once
+#include "brume/guiding/guiding_field.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/path_vertex.h"
@@ -24,12 +25,17 @@ struct WalkStart {
     // media too: the camera walk's last scattering event where equi-angular light
     // connections cover the medium (bdpt.cpp; bdpt_mis.h, MisSettings::passFirstAt).
     int passFirstAt = 1 << 30;
+    // Guided survival of the camera walk (`--guiding on`, docs/path-guiding.md): the frozen
+    // guiding field and the pixel's value as the training passes saw it; null or ≤ 0: the
+    // throughput roulette.
+    const GuidingField* guide = nullptr;
+    float pixelValue = -1;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],
 // at most maxVertices − 1 of them and at most maxScatter scattering ones (surfaces that are
 // not invisible boundaries, and medium points); stops at an escape, a sphere light, a black
-// throughput or Russian roulette (from the fourth vertex on). Returns the vertex count,
+// throughput or Russian roulette (from the fourth vertex on, or guided survival). Returns the vertex count,
 // path[0] included.
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats);

@@ -64,6 +64,23 @@ double worstPixelZ(const std::vector<PixelEstimate>& px, const std::function<Vec
     return worst;
 }
 
+// The largest |z| of the difference of two estimates over blocks and channels, and where.
+double worstDifferenceZ(const std::vector<PixelEstimate>& a, const std::vector<PixelEstimate>& b, const char* nameB,
+                        std::string* where) {
+    double worst = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
+            const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
+            if (z > worst) {
+                worst = z;
+                *where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " + std::to_string(a[i].mean(c)) +
+                         " " + nameB + " " + std::to_string(b[i].mean(c));
+            }
+        }
+    return worst;
+}
+
 }  // namespace
 
 TEST_CASE("guided directions: the sampler follows its density (chi-square)", "[guiding][chi2]") {
@@ -167,18 +184,8 @@ TEST_CASE("guided pt agrees with pt at full depth (guided directions and guided 
         REQUIRE(report.cells > 0);
         auto a = estimateFilm(*scene, plain, W, W, 64, 16, 1, 4);
         auto b = estimateFilm(*scene, pt, W, W, 64, 16, 2, 4);
-        double worst = 0;
         std::string where;
-        for (size_t i = 0; i < a.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
-                const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
-                if (z > worst) {
-                    worst = z;
-                    where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " +
-                            std::to_string(a[i].mean(c)) + " guided " + std::to_string(b[i].mean(c));
-                }
-            }
+        const double worst = worstDifferenceZ(a, b, "guided", &where);
         INFO(where << " (z = " << worst << ")");
         CHECK(worst < zBound(3 * int(a.size())));
     }
@@ -208,18 +215,8 @@ TEST_CASE("bdpt with guided survival of the camera walk agrees with pt at full d
         INFO(file << ": " << bdpt.guide()->report().text());
         auto a = estimateFilm(*scene, PathTracer(PathTracerOptions{-1, true, ConnectMode::Mis}), W, W, 64, 16, 1, 4);
         auto b = estimateFilm(*scene, bdpt, W, W, 32, 16, 2, 4);
-        double worst = 0;
         std::string where;
-        for (size_t i = 0; i < a.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
-                const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
-                if (z > worst) {
-                    worst = z;
-                    where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " +
-                            std::to_string(a[i].mean(c)) + " bdpt " + std::to_string(b[i].mean(c));
-                }
-            }
+        const double worst = worstDifferenceZ(a, b, "bdpt", &where);
         INFO(where << " (z = " << worst << ")");
         CHECK(worst < zBound(3 * int(a.size())));
     }
@@ -257,18 +254,8 @@ TEST_CASE("guided pt's training passes agree with pt (survival by the larger of 
                 ++e.n;
             }
     }
-    double worst = 0;
     std::string where;
-    for (size_t i = 0; i < a.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double se = std::hypot(a[i].stderror(c), b[i].stderror(c));
-            const double z = se > 0 ? std::abs(a[i].mean(c) - b[i].mean(c)) / se : 0.0;
-            if (z > worst) {
-                worst = z;
-                where = "block " + std::to_string(i) + " channel " + std::to_string(c) + ": pt " + std::to_string(a[i].mean(c)) +
-                        " training " + std::to_string(b[i].mean(c));
-            }
-        }
+    const double worst = worstDifferenceZ(a, b, "training", &where);
     INFO(where << " (z = " << worst << ")");
     CHECK(worst < zBound(3 * int(a.size())));
 }

@@ -68,7 +68,7 @@ TEST_CASE("BSDF sampling matches Bsdf::pdf (chi-square, p > 0.01 / cases)", "[ch
     }
 }
 
-TEST_CASE("BSDF sample weights equal eval/pdf; Lambert conserves its albedo", "[bsdf]") {
+TEST_CASE("BSDF sample weights equal eval/pdf and Lambert conserves its albedo", "[bsdf]") {
     Material diffuse;
     for (const Material& m : {diffuse, glossy(0.5f, 0.4f), glossy(1.0f, 0.1f)}) {
         Bsdf bsdf(m, Spectrum(0.7f, 0.5f, 0.3f), kNg, kNs);

@@ -202,7 +202,7 @@ TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
     }
 }
 
-TEST_CASE("cli: 1 and 2 threads give byte-identical images; seeds differ", "[cli]") {
+TEST_CASE("cli: 1 and 2 threads give byte-identical images and seeds differ", "[cli]") {
     TempDir dir;
     const std::string scene = data("single_near.gltf");
     REQUIRE(runBrume("render " + scene + " -o " + quote(dir / "t1.pfm") + kTiny + " --threads 1 --seed 5").code == 0);
@@ -294,13 +294,14 @@ TEST_CASE("cli: every bundled scene renders with no non-finite samples, pt and b
 
 // The default integrator is auto: it says what it chose; --stats lists the candidates;
 // --allocation forces one of them on bdpt and names the others when it does not know one.
-TEST_CASE("cli: auto reports its choice; --allocation forces a candidate", "[cli][auto]") {
+TEST_CASE("cli: auto reports its choice and --allocation forces a candidate", "[cli][auto]") {
     TempDir dir;
     const std::string scene = data("single_near.gltf");
     Result r = runBrume("render " + scene + " -o " + quote(dir / "a.pfm") + " --res 16x12 --spp 6");
     CHECK(r.code == 0);
     CHECK(r.out.find("\nallocation: ") != std::string::npos);
-    r = runBrume("render " + scene + " -o " + quote(dir / "a.pfm") + " --res 16x12 --spp 6 --stats");
+    // (Decided after the pilot and the duel: 24 passes here.)
+    r = runBrume("render " + scene + " -o " + quote(dir / "a.pfm") + " --res 16x12 --spp 24 --stats");
     CHECK(r.code == 0);
     CHECK(r.out.find("chosen") != std::string::npos);
     CHECK(r.out.find("pilot, rays per pass") != std::string::npos);

@@ -56,7 +56,7 @@ BdptIntegrator::~BdptIntegrator() = default;
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     guideTraining_ = options_.guiding && pathTracer_.guide()->training();
-    learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass - guidePasses());
+    learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass);
     usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
     if (!planner_) return;
     if (direct_) planner_->setLightShare(direct_->subpathShare());
@@ -78,19 +78,20 @@ double BdptIntegrator::lightSubpathsMade() const {
 // passes after them start the sequence at 0, whole, when the image leaves them out.
 // With guiding, the guide's training passes come first, with sequence indices of their own;
 // the bidirectional passes after them start their sequence at 0 (the image leaves the
-// training passes out once outnumbered, path_guide.h).
+// training passes out once outnumbered, path_guide.h). (A render that starts its pass count
+// again after training, as the tests' batches do, numbers its passes from 0.)
 SamplerKind BdptIntegrator::samplerFor(int pass, SamplerKind requested) const {
     if (planner_) return planner_->samplerFor(pass, requested);
-    if (pass < guidePasses()) return requested;
-    pass -= guidePasses();
+    if (guideTraining_) return requested;
+    if (pass >= guidePasses()) pass -= guidePasses();
     if (direct_) return pass < DirectLightTracing::kPasses ? SamplerKind::Independent : requested;
     return requested;
 }
 
 uint64_t BdptIntegrator::sequenceIndexFor(int pass, SamplerKind kind) const {
     if (planner_) return planner_->sequenceIndex(pass, kind);
-    if (pass < guidePasses()) return uint64_t(pass);
-    pass -= guidePasses();
+    if (guideTraining_) return uint64_t(pass);
+    if (pass >= guidePasses()) pass -= guidePasses();
     if (direct_)
         return uint64_t(kind == SamplerKind::Sobol && pass >= DirectLightTracing::kPasses ? pass - DirectLightTracing::kPasses : pass);
     return uint64_t(pass);

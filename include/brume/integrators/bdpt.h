@@ -126,8 +126,9 @@ private:
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
     bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
     mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
-    // Passes before the bidirectional tracer's own: the guide's training passes.
-    int guidePasses() const { return options_.guiding ? PathGuide::kLastFitPass : 0; }
+    // Passes before the bidirectional tracer's own: the guide's training passes (16, or fewer
+    // when its records filled up first).
+    int guidePasses() const { return options_.guiding ? pathTracer_.guide()->trainingPasses() : 0; }
     std::string saveOwnState() const;
     void loadOwnState(const std::string& state);
 };

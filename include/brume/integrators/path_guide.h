@@ -53,6 +53,8 @@ public:
         return pixelEstimate_[pixel];
     }
     bool training() const { return passes_ < kLastFitPass && records_.size() < kMaxRecords; }
+    // Complete training passes so far (kLastFitPass, or fewer if the records filled up).
+    int trainingPasses() const { return passes_; }
 
     // The training passes, which the image may leave out (Integrator::leftOut, renderer.h
     // finalImage): their walks are unguided or guided by early fits and end by the

@@ -89,7 +89,6 @@ void PathGuide::endPass(const PassSummary& summary) {
     // The pixel estimate: the mean of the training passes, 3×3 box filtered (one sample a
     // pass is noisy; guided survival needs its scale, not its detail).
     pixelEstimate_.assign(pixelSums_.size(), 0.0f);
-    meanEstimate_ = -1;
     for (int y = 0; y < estimateHeight_; ++y)
         for (int x = 0; x < estimateWidth_; ++x) {
             double sum = 0;
@@ -103,6 +102,7 @@ void PathGuide::endPass(const PassSummary& summary) {
                 }
             pixelEstimate_[size_t(y) * size_t(estimateWidth_) + size_t(x)] = float(sum / (double(n) * passes_));
         }
+    updateMeanEstimate();
     ++fits_;
     learnSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!training()) {  // frozen: the records are not needed again; the training pairs' noise
@@ -117,14 +117,15 @@ void PathGuide::endPass(const PassSummary& summary) {
 
 // w_px = 1 / (I_px² + (Ī/10)²) (path_guide.h, leftOut).
 double PathGuide::noiseWeight(size_t pixel) const {
-    if (!(meanEstimate_ >= 0)) {
-        double sum = 0;
-        for (float v : pixelEstimate_) sum += v;
-        meanEstimate_ = pixelEstimate_.empty() ? 0.0 : sum / double(pixelEstimate_.size());
-    }
     const double I = pixelEstimate_[pixel], floor = 0.1 * meanEstimate_;
     const double d = I * I + floor * floor;
     return d > 0 ? 1.0 / d : 0.0;
+}
+
+void PathGuide::updateMeanEstimate() {
+    double sum = 0;
+    for (float v : pixelEstimate_) sum += v;
+    meanEstimate_ = pixelEstimate_.empty() ? 0.0 : sum / double(pixelEstimate_.size());
 }
 
 // Pairs of consecutive passes of one kind: the first pass's image is kept, the second's
@@ -140,7 +141,6 @@ void PathGuide::measureNoise(const PassSummary& summary, bool trainingPass) {
         for (const SplatList::Record& r : summary.splats[l].records())
             if (r.x >= 0 && r.y >= 0 && r.x < summary.width && r.y < summary.height)
                 image[size_t(r.y) * size_t(summary.width) + size_t(r.x)] += (r.value.x + r.value.y + r.value.z) / 3.0f;
-    auto mean = [&](size_t i) { return image[i]; };
     if (!trainingPass) ++guidedPasses_;
     if (pairFirst_.size() != n) {
         pairFirst_ = std::move(image);
@@ -148,10 +148,10 @@ void PathGuide::measureNoise(const PassSummary& summary, bool trainingPass) {
     }
     if (trainingPass) {
         if (trainingPairs_.size() != n) trainingPairs_.assign(n, 0.0);
-        for (size_t i = 0; i < n; ++i) trainingPairs_[i] += double(mean(i) - pairFirst_[i]) * double(mean(i) - pairFirst_[i]);
+        for (size_t i = 0; i < n; ++i) trainingPairs_[i] += double(image[i] - pairFirst_[i]) * double(image[i] - pairFirst_[i]);
         ++trainingPairCount_;
     } else {
-        for (size_t i = 0; i < n; ++i) guidedNoise_ += double(mean(i) - pairFirst_[i]) * double(mean(i) - pairFirst_[i]) * noiseWeight(i);
+        for (size_t i = 0; i < n; ++i) guidedNoise_ += double(image[i] - pairFirst_[i]) * double(image[i] - pairFirst_[i]) * noiseWeight(i);
     }
     pairFirst_ = std::vector<float>();
 }
@@ -205,7 +205,7 @@ void PathGuide::loadState(const std::string& state) {
     guidedNoise_ = in.get<double>();
     trainingPairCount_ = in.get<int32_t>();
     guidedPasses_ = in.get<int32_t>();
-    meanEstimate_ = -1;
+    updateMeanEstimate();
     const size_t pixels = size_t(std::max(estimateWidth_, 0)) * size_t(std::max(estimateHeight_, 0));
     auto sized = [&](size_t size, size_t per) { return size == 0 || size == per * pixels; };
     if (pixelSums_.size() != pixels || !sized(pixelEstimate_.size(), 1) || !sized(trainingSums_.size(), 3) ||

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "brume/guiding/guided_phase.h"
+#include "brume/guiding/guided_survival.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/light_numbers.h"
@@ -549,28 +550,18 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!isFinite(beta) || isBlack(beta)) break;
         }
 
-        // Guided survival (ADRRS, Vorba and Křivánek 2016; docs/path-guiding.md): a walk whose
-        // expected contribution β·A (A: what its cell says a walk scattering there brings
-        // back per unit of throughput) is at least 1/kWindow of the pixel's value goes on;
-        // a smaller one survives with probability kWindow·β·A / pixel (at least kMinSurvival:
-        // A is an estimate, and a walk it calls worthless may not be). Unbiased for any
-        // survival probability above 0. Grey media only (coloured ones keep the throughput
-        // roulette that bounds every channel's weight), and up to kGuidedDepth events, where
-        // the throughput roulette (and its cap below 1) takes over again. During training the
-        // larger of the two survivals: guided survival alone cut the records of a
+        // Guided survival (guided_survival.h) after training. During training the larger of
+        // it and the throughput roulette: guided survival alone cut the records of a
         // single-scattering scene to a few, while the throughput roulette alone made the
         // training passes the noisiest part of the image (on a lamp behind a doorway, each
         // had 3.2 times a guided pass's variance).
-        constexpr float kWindow = 3.0f, kMinSurvival = 0.05f;
-        constexpr int kGuidedDepth = 32;
         const bool coloured = scene.mediumChannels() > 1;
-        const bool guidedSurvival = adjoint >= 0 && pixelValue > 0 && !coloured && depth < kGuidedDepth;
-        if (guidedSurvival || depth >= 3) {  // (throughput roulette after three events, sample_dimensions.h: kRoulette)
+        const bool guided = adjoint >= 0 && pixelValue > 0 && !coloured && depth < kGuidedSurvivalDepth;
+        if (guided || depth >= 3) {  // (throughput roulette after three events, sample_dimensions.h: kRoulette)
             float survive = depth >= 3 ? rouletteSurvival(beta, 1.0f, depth, coloured) : 1.0f;
-            if (guidedSurvival) {
-                const float expected = (betaBefore.x + betaBefore.y + betaBefore.z) / 3.0f * adjoint;
-                const float guided = std::clamp(kWindow * expected / pixelValue, kMinSurvival, 1.0f);
-                survive = guide_->training() ? std::max(survive, guided) : guided;
+            if (guided) {
+                const float g = guidedSurvival(betaBefore, adjoint, pixelValue);
+                survive = guide_->training() ? std::max(survive, g) : g;
             }
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) break;
             beta /= survive;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "brume/guiding/guided_survival.h"
 #include "brume/integrators/free_flight_walk.h"
 #include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
@@ -167,15 +168,14 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         // the path is worth there; the roulette reads f / avg_c p_c = β / avg_c (p_c / p_hero)
         // instead (bounded by 3 f_c / p_c). On β itself, a path whose hero channel is dim
         // would be cut and its survivors' other channels multiplied up at every bounce.
-        // Guided survival (the camera walk with a guiding field, grey media, up to 32 events):
-        // as in the path tracer (path_tracer.cpp), survive = clamp(3 β·A / I, 0.05, 1), with β
-        // the throughput before the vertex's scattering and A its cell's adjoint. Survival
-        // probabilities enter no MIS weight (nor does the throughput roulette's).
-        const GuidingCell* cell = start.guide && !coloured && scatters < 32 ? start.guide->lookup(v.p) : nullptr;
+        // Guided survival of the camera walk with a guiding field (guided_survival.h; v.beta is
+        // the throughput before v's scattering). Survival probabilities enter no MIS weight
+        // (nor does the throughput roulette's).
+        const GuidingCell* cell =
+            start.guide && !coloured && scatters < kGuidedSurvivalDepth ? start.guide->lookup(v.p) : nullptr;
         const float adjoint = cell ? (v.isMedium() ? cell->mediumAdjoint : cell->surfaceAdjoint) : -1.0f;
         if (adjoint >= 0 && start.pixelValue > 0) {
-            const float expected = (v.beta.x + v.beta.y + v.beta.z) / 3.0f * adjoint;
-            const float survive = std::clamp(3.0f * expected / start.pixelValue, 0.05f, 1.0f);
+            const float survive = guidedSurvival(v.beta, adjoint, start.pixelValue);
             if (survive < 1 && sampler.get1D(dims + dim::kRoulette) >= survive) return count;
             beta /= survive;
         } else if (count >= 4) {

@@ -79,6 +79,7 @@ private:
     Arena& arena() const;
     void measureNoise(const PassSummary& summary, bool trainingPass);
     double noiseWeight(size_t pixel) const;
+    void updateMeanEstimate();
     static constexpr int kNoisePairs = 8;
 
     uint64_t id_;
@@ -98,7 +99,7 @@ private:
     std::vector<double> trainingPairs_;
     double trainingNoise_ = 0, guidedNoise_ = 0;
     int trainingPairCount_ = 0, guidedPasses_ = 0;
-    mutable double meanEstimate_ = -1;  // Ī, once the estimate is frozen
+    double meanEstimate_ = 0;  // Ī, the pixel estimate's mean (with it)
     GuidingField field_;
     mutable std::mutex mutex_;
     mutable std::vector<std::unique_ptr<Arena>> arenas_;

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Writes the bundled scenes in scenes/ (street, the fog benchmarks and the lit-fog showcase
-scenes: god_rays, area_hall, caustic, smoke_box, lighthouse, dusk_haze, headlights).
+scenes: panel_room, next_room, god_rays, area_hall, caustic, smoke_box, lighthouse, dusk_haze,
+headlights).
 
 Run: /usr/bin/python3 scenes/make_scenes.py
 The output is deterministic. See scenes/README.md.
@@ -1292,6 +1293,69 @@ def make_panel_room(path):
     return b.write(path)
 
 
+def make_next_room(path):
+    """Fog lit from the next room (bundled gallery scene for path guiding): the camera's room
+    (x -2..2, y 0..3, z -8..1) has a doorway (1 m wide, 2.2 m high) in its left wall at
+    z -5.5..-4.5; beyond it a second room (x -6..-2, z -8..-2) holds the only light, a warm
+    sphere lamp (radius 0.1 m, 60 W/sr) hidden from the camera by the wall. Its light reaches
+    the camera's room through the doorway, directly as a shaft in the fog and on the floor,
+    and after bounces off the walls (grey 0.6) of both rooms. Walls are 0.15 m boxes; fog
+    (scattering 0.06 /m, absorption 0.006 /m, g = 0.3) fills both rooms."""
+    b = g.GltfBuilder("brume scenes/make_scenes.py")
+    eye, target = (1.3, 1.6, 0.4), (-1.8, 1.1, -5.2)
+    b.add_camera("camera", yfov=0.9, aspect_ratio=4.0 / 3.0, translation=eye, rotation=g.quat_look_at(eye, target))
+    b.set_ambient(b.add_medium("fog", 0.06, 0.006, 0.3))
+    m_wall = b.add_material("wall", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
+    m_floor = b.add_material("floor", base_color=(0.3, 0.27, 0.24), metallic=0.0, roughness=1.0)
+    m_wood = b.add_material("wood", base_color=(0.42, 0.28, 0.16), metallic=0.0, roughness=1.0)
+    H, T = 3.0, 0.15
+    door_z, door_h = (-5.5, -4.5), 2.2
+    walls = Geometry()
+    walls.append(box_between((-6.0 - T, 0.0, -8.0 - T), (2.0 + T, H, -8.0)))      # back wall (both rooms)
+    walls.append(box_between((2.0, 0.0, -8.0), (2.0 + T, H, 1.0 + T)))            # right wall
+    walls.append(box_between((-2.0 - T, 0.0, 1.0), (2.0, H, 1.0 + T)))            # front wall
+    walls.append(box_between((-6.0 - T, 0.0, -8.0), (-6.0, H, -2.0)))             # next room's far wall
+    walls.append(box_between((-6.0 - T, 0.0, -2.0), (-2.0 - T, H, -2.0 + T)))     # next room's front wall
+    # The dividing wall, with the doorway.
+    walls.append(box_between((-2.0 - T, 0.0, -8.0), (-2.0, H, door_z[0])))
+    walls.append(box_between((-2.0 - T, 0.0, door_z[1]), (-2.0, H, 1.0)))
+    walls.append(box_between((-2.0 - T, door_h, door_z[0]), (-2.0, H, door_z[1])))
+    walls.append(g.quad((-2.0, H, -3.5), (4.2, 0.0, 0.0), (0.0, 0.0, 4.7)))     # ceiling, -Y (both rooms)
+    assert walls.normals[-1][1] < -0.999
+    b.add_node("walls", mesh=b.add_mesh("walls", walls.positions, walls.indices, normals=walls.normals,
+                                        uvs=walls.uvs, material=m_wall))
+    floor = g.quad((-2.0, 0.0, -3.5), (0.0, 0.0, 4.7), (4.2, 0.0, 0.0))         # floor, +Y
+    assert floor[1][0][1] > 0.999
+    b.add_node("floor", mesh=b.add_mesh("floor", *_pnui(floor), material=m_floor))
+    furniture = Geometry()
+    furniture.append(box_between((-5.0, 0.7, -7.0), (-3.6, 0.76, -6.0)))       # the next room's table
+    for x in (-4.9, -3.7):
+        for z in (-6.9, -6.1):
+            furniture.append(box_between((x - 0.03, 0.0, z - 0.03), (x + 0.03, 0.7, z + 0.03)))
+    furniture.append(box_between((0.4, 0.0, -6.8), (1.4, 0.9, -5.8)))          # a crate in the camera's room
+    furniture.append(box_between((-1.2, 0.0, -2.6), (-0.5, 0.45, -1.9)))         # a low box
+    b.add_node("furniture", mesh=b.add_mesh("furniture", furniture.positions, furniture.indices,
+                                            normals=furniture.normals, uvs=furniture.uvs, material=m_wood))
+    lamp = (-4.4, 2.3, -6.4)
+    b.add_light("lamp", "point", (1.0, 0.82, 0.6), 60.0, translation=lamp, radius=0.1)
+    # The lamp is hidden from the camera: the line between them meets the dividing wall's
+    # plane outside the doorway.
+    s_wall = (eye[0] + 2.0) / (eye[0] - lamp[0])
+    z_wall = eye[2] + s_wall * (lamp[2] - eye[2])
+    y_wall = eye[1] + s_wall * (lamp[1] - eye[1])
+    assert not (door_z[0] < z_wall < door_z[1] and y_wall < door_h), (z_wall, y_wall)
+    # ... and lights the camera room's floor through the doorway: the line from the lamp to
+    # the floor at (-1, 0, -5) passes the doorway, above the table's edge.
+    spot = (-1.0, 0.0, -5.0)
+    def at_x(x):
+        s = (x - lamp[0]) / (spot[0] - lamp[0])
+        return tuple(lamp[i] + s * (spot[i] - lamp[i]) for i in range(3))
+    _, y_door, z_door = at_x(-2.0)
+    assert y_door < door_h and door_z[0] < z_door < door_z[1], (y_door, z_door)
+    assert at_x(-3.6)[1] > 0.76
+    return b.write(path)
+
+
 def main():
     written = [
         make_street(os.path.join(HERE, "street.gltf")),
@@ -1307,6 +1371,8 @@ def main():
         # Open fog grazed by a large ceiling panel: area lights close to the view rays.
         make_panel_bench(os.path.join(HERE, "bench_panel.gltf")),
         make_panel_room(os.path.join(HERE, "panel_room.gltf")),
+        # Fog lit through a doorway by a lamp in the next room: path guiding's case.
+        make_next_room(os.path.join(HERE, "next_room.gltf")),
         # Lit-fog showcase scenes (README gallery)
         make_god_rays(os.path.join(HERE, "god_rays.gltf")),
         make_area_hall(os.path.join(HERE, "area_hall.gltf")),

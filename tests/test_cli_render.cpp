@@ -105,6 +105,9 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --guiding maybe", "--guiding"},
         {data("empty.gltf") + " -o " + out + " --guiding on --integrator bdpt --strategy-images " + quote(dir / "s"), "--guiding"},
         {data("empty.gltf") + " -o " + out + " --guiding on", "--guiding"},  // (auto)
+        {data("empty.gltf") + " -o " + out + " --integrator pt --guiding on --guided-distances often", "--guided-distances"},
+        {data("empty.gltf") + " -o " + out + " --integrator pt --guided-distances camera", "--guided-distances"},
+        {data("empty.gltf") + " -o " + out + " --integrator bdpt --guiding on --guided-distances all", "--guided-distances"},
         {data("empty.gltf") + " -o " + out + " --sampler halton", "halton"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
@@ -193,6 +196,7 @@ TEST_CASE("cli: every --connect mode and --no-nee render", "[cli]") {
                               "--no-nee --max-depth 3",
                               "--sampler independent", "--sampler sobol --integrator pt",
                               "--integrator pt --guiding on --spp 20 --max-depth 3", "--integrator pt --guiding off",
+                              "--integrator pt --guiding on --guided-distances all --spp 20",
                               "--integrator bdpt --guiding on --spp 20 --max-depth 3", "--integrator bdpt --guiding on --spp 20"}) {
         INFO(flags);
         Result r = runBrume("render " + data("single_near.gltf") + " -o " + quote(dir / "m.pfm") + kTiny + " " + flags);

@@ -97,6 +97,7 @@ struct RenderArgs {
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
     bool guiding = false;    // --guiding on (pt)
+    int guidedDistances = -1;  // --guided-distances: the deepest vertex whose rays are guided (−1: off)
     EmitterSampling emitters = EmitterSampling::SolidAngle;
     MisHeuristic heuristic = MisHeuristic::Power;
     std::string strategyDir;
@@ -208,6 +209,16 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   else if (v == "off") a.guiding = false;
                   else throw UsageError("--guiding: expected on or off, got '" + v + "'");
               });
+    addOption(app, "--guided-distances", "off|camera|all",
+              "with --integrator pt --guiding on: collisions drawn by the learned in-scattered radiance, "
+              "MIS-combined with free flight, on camera rays or on every ray, in homogeneous grey media "
+              "(docs/path-guiding.md); off by default (on the scenes measured it cost more than it gave)",
+              [&](const std::string& v) {
+                  if (v == "off") a.guidedDistances = -1;
+                  else if (v == "camera") a.guidedDistances = 0;
+                  else if (v == "all") a.guidedDistances = 1 << 30;
+                  else throw UsageError("--guided-distances: expected off, camera or all, got '" + v + "'");
+              });
     addOption(app, "--checkpoint", "FILE",
               "save the render's state to FILE every --checkpoint-every seconds and when interrupted "
               "(written beside FILE and renamed into place; removed once the image is complete); needs --spp",
@@ -220,7 +231,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--resume", "FILE",
               "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
               "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis, "
-              "--no-nee and --guiding must be as before (use the same FILE for --checkpoint to keep saving)",
+              "--no-nee, --guiding and --guided-distances must be as before (use the same FILE for --checkpoint to keep saving)",
               [&](const std::string& v) { a.resume = nonEmptyFile("--resume", v); });
     // For tests: as if SIGTERM came after N passes. No description: not in the help.
     addOption(app, "--stop-after-passes", "N", "",
@@ -243,6 +254,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     }
     if (a.guiding && a.integrator == "auto") throw UsageError("--guiding on needs --integrator pt or bdpt");
     if (a.guiding && !a.strategyDir.empty()) throw UsageError("--strategy-images and --guiding on exclude each other");
+    if (a.guidedDistances >= 0 && !(a.guiding && a.integrator == "pt"))
+        throw UsageError("--guided-distances needs --integrator pt --guiding on");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
@@ -346,6 +359,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
             {"--emitter-sampling", emitterSamplingName(a.emitters)},
             {"--max-depth", std::to_string(a.maxDepth)},
             {"--guiding", a.guiding ? "on" : "off"},
+            {"--guided-distances", a.guidedDistances < 0 ? "off" : (a.guidedDistances == 0 ? "camera" : "all")},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
 }
@@ -426,6 +440,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.maxDepth = a.maxDepth;
     method.nextEventEstimation = a.nee;
     method.guiding = a.guiding;
+    method.guidedDistanceDepth = a.guidedDistances;
     method.heuristic = a.heuristic;
     if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
     return method;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 
@@ -13,6 +14,7 @@ namespace brume {
 namespace {
 
 constexpr int kMaxDepth = 40;
+constexpr size_t kDirectOnlySplit = 4;
 // The shares α a cell may choose; at most 0.9, so phase sampling always keeps a tenth and a
 // poor fit costs at most a factor 10 in density (defensive mixture).
 constexpr float kShares[] = {0.0f, 0.25f, 0.5f};
@@ -29,18 +31,28 @@ struct Range {
 // rest: on the records it was fitted to, a mixture predicts a lower second moment than it
 // gives (seen: shares chosen that way raised the variance of a fog room by 5 %).
 bool fitKind(const GuideRecord* r, size_t n, bool surface, const GuidingSettings& s, VmfMixture* mixture,
-             float* share, float* adjoint) {
+             float* share, float* adjoint, float* inscatter = nullptr, float* inscatter2 = nullptr) {
     std::vector<WeightedDirection> samples;
     std::vector<const GuideRecord*> heldOut;
     samples.reserve(n / 2 + 1);
     heldOut.reserve(n / 2 + 1);
     double walks = 0, brought = 0;  // the adjoint: Σ count · f L / p over Σ count
+    double gathered = 0, gathered2 = 0;  // Σ count · X and Σ count · X², X = direct + f L / p
     for (size_t j = 0; j < n; ++j) {
         if (bool(r[j].surface) != surface || !(r[j].pdf > 0)) continue;
         walks += r[j].count;
-        brought += double(r[j].count) * r[j].scatter * r[j].radiance / r[j].pdf;
+        const double continued = double(r[j].scatter) * r[j].radiance / r[j].pdf, x = continued + r[j].direct;
+        brought += r[j].count * continued;
+        gathered += r[j].count * x;
+        gathered2 += r[j].count * x * x;
     }
-    if (walks >= s.minRecords) *adjoint = float(brought / walks);
+    if (walks >= s.minRecords) {
+        *adjoint = float(brought / walks);
+        if (inscatter) {
+            *inscatter = float(gathered / walks);
+            *inscatter2 = float(gathered2 / walks);
+        }
+    }
     for (size_t j = 0; j < n; ++j)
         if (bool(r[j].surface) == surface && r[j].radiance > 0 && r[j].pdf > 0) {
             if ((samples.size() + heldOut.size()) % 2 == 0) samples.push_back({r[j].wi, r[j].radiance / r[j].pdf});
@@ -80,7 +92,8 @@ bool fitKind(const GuideRecord* r, size_t n, bool surface, const GuidingSettings
 
 // A leaf's cell from its records, or false if it has too few of either kind.
 bool fitCell(const GuideRecord* r, size_t n, const GuidingSettings& s, GuidingCell* cell) {
-    const bool medium = fitKind(r, n, false, s, &cell->medium, &cell->share, &cell->mediumAdjoint);
+    const bool medium =
+        fitKind(r, n, false, s, &cell->medium, &cell->share, &cell->mediumAdjoint, &cell->inscatter, &cell->inscatter2);
     const bool surface = fitKind(r, n, true, s, &cell->surface, &cell->surfaceShare, &cell->surfaceAdjoint);
     if (!medium) cell->share = 0;
     if (!surface) cell->surfaceShare = 0;
@@ -115,11 +128,18 @@ void GuidingField::build(std::vector<GuideRecord>& records, const GuidingSetting
     while (!stack.empty()) {
         const Task t = stack.back();
         stack.pop_back();
-        // Only records that saw light count towards a split: they carry the directions; the
-        // dark ones (kept one in 8) only lower the cell's adjoint.
-        size_t lit = 0;
-        for (size_t i = t.range.begin; i < t.range.end; ++i) lit += records[i].radiance > 0;
-        if (lit <= size_t(settings.maxRecords) || t.depth >= kMaxDepth) {
+        // Only records that saw light count towards a split: those that saw it along their
+        // direction carry the directions; those that saw it only by next-event estimation
+        // carry the cell's in-scattered radiance (guided distances, which a scalar needs
+        // fewer records for), and split a leaf at kDirectOnlySplit times as many; the dark
+        // ones (kept one in 8) only lower the cell's means.
+        size_t lit = 0, directOnly = 0;
+        for (size_t i = t.range.begin; i < t.range.end; ++i) {
+            lit += records[i].radiance > 0;
+            directOnly += !(records[i].radiance > 0) && records[i].direct > 0;
+        }
+        if ((lit <= size_t(settings.maxRecords) && directOnly <= kDirectOnlySplit * size_t(settings.maxRecords)) ||
+            t.depth >= kMaxDepth) {
             leaves.push_back({t.node, t.range});
             continue;
         }
@@ -175,6 +195,57 @@ const GuidingCell* GuidingField::lookup(Vec3 p) const {
         if (n.axis == 3) return n.index == kNoCell ? nullptr : &cells_[n.index];
         i = n.index + (p[int(n.axis)] >= n.split ? 1u : 0u);
     }
+}
+
+int GuidingField::along(Vec3 o, Vec3 d, float tMax, Interval* out, int maxCount) const {
+    if (nodes_.empty()) return 0;
+    // The ray clipped to the tree's box (slabs), then a front-to-back walk down the tree:
+    // at an inner node the part of [t0, t1] on the origin's side of the plane comes first.
+    float t0 = 0, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0) {
+            if (o[a] < lo_[a] || o[a] > hi_[a]) return 0;
+            continue;
+        }
+        const float inv = 1.0f / d[a];
+        float tn = (lo_[a] - o[a]) * inv, tf = (hi_[a] - o[a]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        t0 = std::max(t0, tn);
+        t1 = std::min(t1, tf);
+    }
+    if (!(t0 < t1)) return 0;
+    struct Todo {
+        uint32_t node;
+        float t0, t1;
+    };
+    Todo stack[kMaxDepth + 2];
+    int top = 0, count = 0;
+    stack[top++] = {0, t0, t1};
+    while (top > 0) {
+        Todo t = stack[--top];
+        for (;;) {
+            const Node& n = nodes_[t.node];
+            if (n.axis == 3) {
+                if (count == maxCount) return -1;
+                out[count++] = Interval{t.t0, t.t1, n.index == kNoCell ? nullptr : &cells_[n.index]};
+                break;
+            }
+            const int a = int(n.axis);
+            // lookup's rule: a point on the plane belongs to the right child.
+            const bool leftFirst = o[a] < n.split || (o[a] == n.split && d[a] < 0);
+            const uint32_t first = n.index + (leftFirst ? 0u : 1u), second = n.index + (leftFirst ? 1u : 0u);
+            const float tSplit = d[a] != 0 ? (n.split - o[a]) / d[a] : std::numeric_limits<float>::infinity();
+            if (tSplit <= 0 || tSplit >= t.t1) {  // the plane behind the origin or past the piece
+                t.node = first;
+            } else if (tSplit <= t.t0) {  // crossed before the piece
+                t.node = second;
+            } else {
+                stack[top++] = {second, tSplit, t.t1};
+                t = {first, t.t0, tSplit};
+            }
+        }
+    }
+    return count;
 }
 
 size_t GuidingField::guidingCells() const {

@@ -16,6 +16,7 @@ PathTracerOptions pathTracerOptions(const IntegratorSettings& s) {
     o.nextEventEstimation = s.nextEventEstimation;
     o.connect = s.connect;
     o.guiding = s.guiding;
+    o.guidedDistanceDepth = s.guidedDistanceDepth;
     return o;
 }
 

@@ -13,7 +13,7 @@ namespace brume {
 namespace {
 
 std::atomic<uint64_t> nextId{1};
-constexpr uint32_t kMagic = 0x47445034;  // "GDP4"
+constexpr uint32_t kMagic = 0x47445035;  // "GDP5"
 
 struct ArenaCache {
     uint64_t owner = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "brume/guiding/guided_distance.h"
 #include "brume/guiding/guided_phase.h"
 #include "brume/guiding/guided_survival.h"
 #include "brume/integrators/boundary_walk.h"
@@ -184,6 +185,14 @@ float directionPdfAt(const GuidingField* field, Vec3 x, Vec3 d, float g, Vec3 w,
     return gp.share > 0 ? gp.pdf(w) : phase;
 }
 
+// The density with which the walk's distance sampling on a piece would have stopped at t
+// (what strategies C and D need for A's and B's densities): free flight's (tr: the transit
+// over [0, t]), or the guided mixture's where the piece is guided (guided_distance.h).
+float distanceDensity(const Medium& m, const MediumTransit& tr, Spectrum channels, const GuidedDistance* gd, float t) {
+    if (gd) return float(gd->pdf(t));
+    return float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));
+}
+
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
                       const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats) {
@@ -227,7 +236,8 @@ Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumT
 // vertex on it and C stands alone, as in the equiangular and product modes.
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                           SolidAngleTables& tables, bool passing, const GuidingField* field, PathStats& stats) {
+                           SolidAngleTables& tables, bool passing, const GuidingField* field, const GuidedDistance* gd,
+                           PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -256,7 +266,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     const Ray ray{seg.o, seg.d, seg.tEnd};
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
-    origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));  // what free flight would have had
+    origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
     // (B cannot reach a point or spot light: its density, guided or not, is then not needed.)
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
@@ -272,7 +282,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
 // from x(t) as in A (uniform in that solid angle).
 Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media, ConnectMode mode,
                           Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                          SolidAngleTables& tables, const GuidingField* field, PathStats& stats) {
+                          SolidAngleTables& tables, const GuidingField* field, const GuidedDistance* gd, PathStats& stats) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -290,7 +300,7 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     const Medium& m = *seg.medium;
     const float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
-    origin.pFreeFlight = float(m.grey() ? tr.fwd[0] : tr.fwd.mix(channels));
+    origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
     MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.d = double(pick) * pOmega * ls.pdf;
     const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
@@ -400,17 +410,24 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             // In a coloured medium the channel that drives the distance is drawn in proportion
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
+            // Guided distances on this piece (guided_distance.h): in homogeneous grey media,
+            // where the field knows the piece and guiding lowers the predicted variance.
+            const GuidedDistance guidedDistance =
+                field && !passing && depth <= options_.guidedDistanceDepth && !m->heterogeneous() && m->grey()
+                    ? GuidedDistance::on(field, seg.o, seg.d, seg.tEnd, m->sigmaT().x, guide_->settings().fixedShare)
+                    : GuidedDistance{};
+            const GuidedDistance* gd = guidedDistance.share() > 0 ? &guidedDistance : nullptr;
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
                 const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
                 L += counted(PathTracerTechnique::OnSegment,
                              beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
-                                                      tables, passing, field, stats));
+                                                      tables, passing, field, gd, stats));
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
                 L += counted(PathTracerTechnique::BySolidAngle,
                              beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler,
-                                                     dim::solidAngleSegment(depth), repeat, tables, field, stats));
+                                                     dim::solidAngleSegment(depth), repeat, tables, field, gd, stats));
             }
 
             if (passing) {  // (above) weight T
@@ -421,8 +438,17 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
             // over the channels.
             const float uChannel = m->grey() ? 0.0f : sampler.get1D(dims + dim::kChannel, repeat);
-            MediumSample ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1,
-                                                sampler.get1D(dims + dim::kDistance, repeat), uChannel, channels, false);
+            const float uDistance = sampler.get1D(dims + dim::kDistance, repeat);
+            MediumSample ms;
+            if (gd) {  // the guided mixture: weight T·σs / p, or 1 for a pass (guided_distance.h)
+                const GuidedDistanceSample g = gd->sample(uDistance);
+                ms.scattered = g.scattered;
+                ms.t = piece.t0 + g.t;
+                ms.pdf = g.pdf;
+                ms.weight = g.scattered ? m->sigmaS * g.weight : Spectrum(1.0f);
+            } else {
+                ms = m->sampleDistance(Ray{ray.o, ray.d}, piece.t0, piece.t1, uDistance, uChannel, channels, false);
+            }
             beta *= ms.weight;
             if (ms.scattered) {
                 scattered = true;
@@ -444,10 +470,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             v.guided = guided.share > 0 ? &guided : nullptr;
             betaBefore = beta;
             adjoint = guided.cell ? guided.cell->mediumAdjoint : -1.0f;
+            Spectrum direct(0.0f);  // per unit of throughput (a training record keeps it)
             if (nee) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
-                L += counted(PathTracerTechnique::AtVertex,
-                             beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
+                direct = sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+                L += counted(PathTracerTechnique::AtVertex, beta * direct);
             }
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi;
@@ -461,7 +488,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
             if (train) {
                 const float phase = hgPhase(dot(ray.d, wi), m->g);
-                train->add(GuideRecord{v.p, ray.d, wi, m->g, prevPdf, 0.0f, phase, phase, 0, pixel, uint32_t(depth)}, beta, L);
+                GuideRecord r{v.p, ray.d, wi, m->g, prevPdf, 0.0f, phase, phase, 0, pixel, uint32_t(depth)};
+                r.direct = (direct.x + direct.y + direct.z) / 3.0f;
+                train->add(r, beta, L);
             }
             prevP = v.p;
             prevInMedium = true;
@@ -569,8 +598,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     }
     if (train && train->count > 0) {
         // L_i(p, ω) = (L − L_before) / β_after per channel, their mean. Records that saw no
-        // light teach no direction; they are kept one in 8 (counting 8), for the cells'
-        // adjoints (guiding_field.h).
+        // light (neither along ω nor by their next-event estimate) teach nothing but the
+        // cells' means; they are kept one in 8, counting 8 (guiding_field.h).
         TrainingWalk& t = *train;
         int kept = 0;
         for (int i = 0; i < t.count; ++i) {
@@ -584,7 +613,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const float radiance = channels > 0 ? float(sum / channels) : 0.0f;
             if (!std::isfinite(radiance) || radiance < 0) continue;
             float count = 1;
-            if (!(radiance > 0)) {
+            if (!(radiance > 0) && !(t.records[i].direct > 0)) {
                 if (sampler.get1D(dim::walkVertex(dim::Side::Camera, int(t.records[i].vertex)) + dim::kKeep) >= 0.125f) continue;
                 count = 8;
             }

@@ -23,6 +23,9 @@ struct GuideRecord {
     uint32_t pixel = 0;
     uint32_t vertex = 0;
     float count = 1;    // how many walks it stands for (records that saw no light are kept one in 8)
+    // At a medium vertex, what its next-event estimate gathered per unit of throughput (the
+    // channel mean, MIS-weighted): with scatter·radiance/pdf, all the vertex brought back.
+    float direct = 0;
 };
 
 }  // namespace brume

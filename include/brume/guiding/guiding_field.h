@@ -30,6 +30,10 @@ struct GuidingCell {
     // guided survival, path_tracer.cpp): the records' mean of f·L/p, for medium and surface
     // vertices; −1 where too few records of the kind were seen.
     float mediumAdjoint = -1, surfaceAdjoint = -1;
+    // What a medium vertex here gathers per unit of throughput, X = direct + f·L/p (its
+    // next-event estimate and its continuation): the records' mean of X and of X², for
+    // guided distances (guided_distance.h); −1 where too few medium records were seen.
+    float inscatter = -1, inscatter2 = -1;
 };
 
 struct GuidingSettings {
@@ -54,6 +58,14 @@ public:
     void build(std::vector<GuideRecord>& records, const GuidingSettings& settings);
     // The cell at p, or null (outside the tree, or a leaf with too few records).
     const GuidingCell* lookup(Vec3 p) const;
+    // The leaves the ray o + t·d crosses for t in [0, tMax] (tMax may be infinite), in order,
+    // each as [t0, t1] with its cell (null: a leaf with too few records). The parts of the
+    // ray outside the tree are not listed. Returns how many, or −1 if more than maxCount.
+    struct Interval {
+        float t0, t1;
+        const GuidingCell* cell;
+    };
+    int along(Vec3 o, Vec3 d, float tMax, Interval* out, int maxCount) const;
 
     bool empty() const { return nodes_.empty(); }
     size_t leaves() const;

@@ -24,6 +24,7 @@ struct IntegratorSettings {
     bool nextEventEstimation = true;
     // Path guiding (`--guiding on`, path_tracer.h and bdpt.h; not with EfficiencyAware).
     bool guiding = false;
+    int guidedDistanceDepth = -1;  // the path tracer's guided distances (PathTracerOptions)
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two
     // variants kept for measurement (BdptOptions).

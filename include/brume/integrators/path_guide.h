@@ -40,6 +40,7 @@ public:
 
     // The field the current pass reads (null before the first fit).
     const GuidingField* field() const { return field_.empty() ? nullptr : &field_; }
+    const GuidingSettings& settings() const { return settings_; }
     // Whether this pixel's walks record in the current pass.
     bool records(uint32_t pixel, int width, int height) const;
     // Hands in one walk's records (thread-safe: each thread has its own list).

@@ -38,6 +38,10 @@ struct PathTracerOptions {
     // from a field learned in the first passes, MIS-combined with phase sampling.
     bool guiding = false;
     float guideShare = -1;  // ≥ 0: the guided share α in every cell, not learned (tests)
+    // Guided distances (guided_distance.h, `--guided-distances`) on the rays leaving
+    // vertices up to this many scattering events: 0, the camera rays; −1, none (the
+    // default: on the scenes measured they cost more than they gave, docs/path-guiding.md).
+    int guidedDistanceDepth = -1;
 };
 
 class PathTracer : public Integrator {

@@ -1297,14 +1297,14 @@ def make_next_room(path):
     """Fog lit from the next room (bundled gallery scene for path guiding): the camera's room
     (x -2..2, y 0..3, z -8..1) has a doorway (1 m wide, 2.2 m high) in its left wall at
     z -5.5..-4.5; beyond it a second room (x -6..-2, z -8..-2) holds the only light, a warm
-    sphere lamp (radius 0.1 m, 60 W/sr) hidden from the camera by the wall. Its light reaches
+    sphere lamp (radius 0.1 m, 150 W/sr) hidden from the camera by the wall. Its light reaches
     the camera's room through the doorway, directly as a shaft in the fog and on the floor,
     and after bounces off the walls (grey 0.6) of both rooms. Walls are 0.15 m boxes; fog
-    (scattering 0.06 /m, absorption 0.006 /m, g = 0.3) fills both rooms."""
+    (scattering 0.1 /m, absorption 0.008 /m, g = 0.3) fills both rooms."""
     b = g.GltfBuilder("brume scenes/make_scenes.py")
     eye, target = (1.3, 1.6, 0.4), (-1.8, 1.1, -5.2)
     b.add_camera("camera", yfov=0.9, aspect_ratio=4.0 / 3.0, translation=eye, rotation=g.quat_look_at(eye, target))
-    b.set_ambient(b.add_medium("fog", 0.06, 0.006, 0.3))
+    b.set_ambient(b.add_medium("fog", 0.1, 0.008, 0.3))
     m_wall = b.add_material("wall", base_color=(0.6, 0.6, 0.6), metallic=0.0, roughness=1.0)
     m_floor = b.add_material("floor", base_color=(0.3, 0.27, 0.24), metallic=0.0, roughness=1.0)
     m_wood = b.add_material("wood", base_color=(0.42, 0.28, 0.16), metallic=0.0, roughness=1.0)
@@ -1337,7 +1337,7 @@ def make_next_room(path):
     b.add_node("furniture", mesh=b.add_mesh("furniture", furniture.positions, furniture.indices,
                                             normals=furniture.normals, uvs=furniture.uvs, material=m_wood))
     lamp = (-4.4, 2.3, -6.4)
-    b.add_light("lamp", "point", (1.0, 0.82, 0.6), 60.0, translation=lamp, radius=0.1)
+    b.add_light("lamp", "point", (1.0, 0.82, 0.6), 150.0, translation=lamp, radius=0.1)
     # The lamp is hidden from the camera: the line between them meets the dividing wall's
     # plane outside the doorway.
     s_wall = (eye[0] + 2.0) / (eye[0] - lamp[0])

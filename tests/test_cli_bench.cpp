@@ -122,7 +122,26 @@ TEST_CASE("bench: usage errors exit with 2", "[cli][bench]") {
     CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
     CHECK_FALSE(fs::exists(dir));
 
+    // Guiding for pt and bdpt methods only.
+    Run guided = runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --methods auto:guided");
+    CHECK(guided.code == 2);
+    CHECK(contains(guided.err, "auto:guided"));
+    CHECK_FALSE(fs::exists(dir));
+
     CHECK(runBrume("bench " + quote(kScene)).code == 2);  // no --out
     CHECK(runBrume("bench " + quote(kScene) + " --out " + quote(dir) + " --budgets 1,-2").code == 2);
     CHECK(runBrume("bench --help").code == 0);
+}
+
+TEST_CASE("bench: a guided method renders with its training passes", "[cli][bench]") {
+    TempDir scratch;
+    const std::string dir = (scratch / "guided");
+    Run run = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
+                       " --res 24x24 --budgets 0.2 --reference-spp 16 --methods pt:mis,pt:mis:guided,bdpt:mis:guided --no-chart");
+    INFO("stdout: " << run.out << "\nstderr: " << run.err);
+    REQUIRE(run.code == 0);
+    const std::string csv = readFile(dir + "/results.csv");
+    CHECK(contains(csv, "single_near,pt:mis:guided,"));
+    CHECK(contains(csv, "single_near,bdpt:mis:guided,"));
+    CHECK(fs::exists(dir + "/pt_mis_guided.exr"));
 }

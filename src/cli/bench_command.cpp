@@ -64,6 +64,7 @@ struct BenchChoice {
     std::string name;
     std::string allocation;  // bdpt@NAME: bdpt:mis with one of auto's candidate allocations
     EmitterSampling emitters = EmitterSampling::SolidAngle;  // METHOD:area: emissive triangles by area
+    bool guided = false;  // METHOD:guided: pt or bdpt with path guiding (--guiding on), training included
 };
 
 IntegratorSettings pt(ConnectMode connect) {
@@ -115,6 +116,12 @@ std::unique_ptr<Integrator> makeMethod(const BenchMethod& method, int maxDepth) 
 
 // The integrator of a choice: its method's, or bdpt:mis with a named allocation.
 std::unique_ptr<Integrator> makeChoice(const BenchChoice& choice, int maxDepth) {
+    if (choice.guided) {
+        IntegratorSettings s = choice.method->settings;
+        s.maxDepth = maxDepth;
+        s.guiding = true;
+        return makeIntegrator(s);
+    }
     if (choice.allocation.empty()) return makeMethod(*choice.method, maxDepth);
     IntegratorSettings s = bdpt(ConnectMode::Mis);
     s.maxDepth = maxDepth;
@@ -201,7 +208,9 @@ std::string benchFooter() {
            "Every method renders with the sobol sampler; METHOD:independent renders it with independent\n"
            "samples instead (e.g. --methods pt:mis,pt:mis:independent). METHOD:area samples light\n"
            "points on emissive triangles by area, without distances by their solid angle (as\n"
-           "--emitter-sampling area; e.g. --methods pt:mis,pt:mis:area).\n"
+           "--emitter-sampling area; e.g. --methods pt:mis,pt:mis:area). METHOD:guided renders a pt or\n"
+           "bdpt method with path guiding (--guiding on), its training passes in the time (e.g.\n"
+           "--methods pt:mis,pt:mis:guided).\n"
            "\nCtrl-C stops after the current pass; no results.csv is written (exit code 130).";
 }
 
@@ -214,6 +223,16 @@ const BenchMethod* namedMethod(const std::string& what, const std::string& name)
 // A method as --methods names it: METHOD, or METHOD:SAMPLER (sobol, the default, or
 // independent), e.g. pt:mis:independent.
 BenchChoice namedChoice(const std::string& what, const std::string& item) {
+    const std::string guidedSuffix = ":guided";
+    if (item.size() > guidedSuffix.size() &&
+        item.compare(item.size() - guidedSuffix.size(), guidedSuffix.size(), guidedSuffix) == 0) {
+        BenchChoice c = namedChoice(what, item.substr(0, item.size() - guidedSuffix.size()));
+        if (c.method->settings.kind == IntegratorKind::EfficiencyAware || !c.allocation.empty())
+            throw UsageError(what + ": '" + item + "': path guiding needs a pt or bdpt method");
+        c.guided = true;
+        c.name += guidedSuffix;
+        return c;
+    }
     const std::string areaSuffix = ":area";
     if (item.size() > areaSuffix.size() && item.compare(item.size() - areaSuffix.size(), areaSuffix.size(), areaSuffix) == 0) {
         BenchChoice c = namedChoice(what, item.substr(0, item.size() - areaSuffix.size()));

@@ -136,7 +136,7 @@ void GuidingField::build(std::vector<GuideRecord>& records, const GuidingSetting
         size_t lit = 0, directOnly = 0;
         for (size_t i = t.range.begin; i < t.range.end; ++i) {
             lit += records[i].radiance > 0;
-            directOnly += !(records[i].radiance > 0) && records[i].direct > 0;
+            directOnly += settings.inscatter && !(records[i].radiance > 0) && records[i].direct > 0;
         }
         if ((lit <= size_t(settings.maxRecords) && directOnly <= kDirectOnlySplit * size_t(settings.maxRecords)) ||
             t.depth >= kMaxDepth) {

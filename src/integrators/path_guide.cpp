@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "brume/integrators/state_bytes.h"
@@ -72,8 +73,15 @@ void PathGuide::endPass(const PassSummary& summary) {
             pixelSums_[i] += (double(L.x) + L.y + L.z) / 3.0;
         }
     }
+    // A total order, whatever order the threads handed the records in: (pixel, vertex), then
+    // the record's bytes. (pixel, vertex) alone is not unique: a film position x + u with u
+    // within a float's step of 1 rounds to the next pixel, whose own walk then shares its
+    // keys, and an unstable sort of the two made the fits, and so the images, depend on the
+    // thread count.
     std::sort(pass.begin(), pass.end(), [](const GuideRecord& a, const GuideRecord& b) {
-        return a.pixel != b.pixel ? a.pixel < b.pixel : a.vertex < b.vertex;
+        if (a.pixel != b.pixel) return a.pixel < b.pixel;
+        if (a.vertex != b.vertex) return a.vertex < b.vertex;
+        return std::memcmp(&a, &b, sizeof(GuideRecord)) < 0;
     });
     const size_t room = kMaxRecords - records_.size();
     records_.insert(records_.end(), pass.begin(), pass.begin() + long(std::min(room, pass.size())));

@@ -598,8 +598,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     }
     if (train && train->count > 0) {
         // L_i(p, ω) = (L − L_before) / β_after per channel, their mean. Records that saw no
-        // light (neither along ω nor by their next-event estimate) teach nothing but the
-        // cells' means; they are kept one in 8, counting 8 (guiding_field.h).
+        // light (along ω, nor by their next-event estimate when guided distances learn it)
+        // teach nothing but the cells' means; they are kept one in 8, counting 8
+        // (guiding_field.h).
         TrainingWalk& t = *train;
         int kept = 0;
         for (int i = 0; i < t.count; ++i) {
@@ -613,7 +614,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const float radiance = channels > 0 ? float(sum / channels) : 0.0f;
             if (!std::isfinite(radiance) || radiance < 0) continue;
             float count = 1;
-            if (!(radiance > 0) && !(t.records[i].direct > 0)) {
+            if (!(radiance > 0) && !(guide_->settings().inscatter && t.records[i].direct > 0)) {
                 if (sampler.get1D(dim::walkVertex(dim::Side::Camera, int(t.records[i].vertex)) + dim::kKeep) >= 0.125f) continue;
                 count = 8;
             }

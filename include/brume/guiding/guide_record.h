@@ -27,5 +27,7 @@ struct GuideRecord {
     // channel mean, MIS-weighted): with scatter·radiance/pdf, all the vertex brought back.
     float direct = 0;
 };
+// Compared by its bytes for a total order (path_guide.cpp): no padding.
+static_assert(sizeof(GuideRecord) == 19 * 4, "GuideRecord has padding");
 
 }  // namespace brume

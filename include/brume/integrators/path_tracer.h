@@ -66,6 +66,7 @@ private:
     static GuidingSettings guideSettings(const PathTracerOptions& o) {
         GuidingSettings s;
         s.fixedShare = o.guideShare;
+        s.inscatter = o.guidedDistanceDepth >= 0;
         return s;
     }
     PathTracerOptions options_;

@@ -68,6 +68,28 @@ double worstPixelZ(const std::vector<PixelEstimate>& px, const std::function<Vec
     return worst;
 }
 
+// The final image of `total` passes of a 24 × 16 render at seed 5 on `threads` threads: the
+// first `stopAt` by one integrator, the rest by a fresh one from its saved state, as
+// --resume does.
+template <class Make>
+std::vector<float> renderResumed(const Scene& scene, Make make, int threads, int total, int stopAt) {
+    auto first = make();
+    Film film(24, 16);
+    RenderOptions o;
+    o.width = 24;
+    o.height = 16;
+    o.seed = 5;
+    o.threads = threads;
+    o.spp = stopAt;
+    render(scene, *first, o, film);
+    if (stopAt == total) return finalImage(film, *first, o.sampler);
+    auto again = make();
+    again->loadState(first->saveState());
+    o.spp = total - stopAt;
+    render(scene, *again, o, film);
+    return finalImage(film, *again, o.sampler);
+}
+
 // The largest |z| of the difference of two estimates over blocks and channels, and where.
 double worstDifferenceZ(const std::vector<PixelEstimate>& a, const std::vector<PixelEstimate>& b, const char* nameB,
                         std::string* where) {
@@ -385,29 +407,12 @@ TEST_CASE("the guided share is learned: none where light comes equally from ever
 
 TEST_CASE("guided pt: the same seed gives the same image for any thread count, and after a resume", "[guiding]") {
     auto scene = loadTestScene("bdpt_window_fog.gltf");
-    auto renderWith = [&](int threads, int stopAt, bool resume) {
-        PathTracer pt(guided(-1, ConnectMode::Mis, -1.0f));
-        Film film(24, 16);
-        RenderOptions o;
-        o.width = 24;
-        o.height = 16;
-        o.seed = 5;
-        o.threads = threads;
-        o.spp = stopAt;
-        render(*scene, pt, o, film);
-        if (resume) {  // a fresh integrator from the saved state, as --resume does
-            PathTracer again(guided(-1, ConnectMode::Mis, -1.0f));
-            again.loadState(pt.saveState());
-            o.spp = 24 - stopAt;
-            render(*scene, again, o, film);
-        }
-        return film.rgb();
-    };
-    const std::vector<float> one = renderWith(1, 24, false);
-    CHECK(renderWith(2, 24, false) == one);
-    CHECK(renderWith(3, 24, false) == one);
-    CHECK(renderWith(2, 5, true) == one);   // mid-training (after the fit at 4)
-    CHECK(renderWith(2, 16, true) == one);  // frozen
+    auto make = [] { return std::make_unique<PathTracer>(guided(-1, ConnectMode::Mis, -1.0f)); };
+    const std::vector<float> one = renderResumed(*scene, make, 1, 24, 24);
+    CHECK(renderResumed(*scene, make, 2, 24, 24) == one);
+    CHECK(renderResumed(*scene, make, 3, 24, 24) == one);
+    CHECK(renderResumed(*scene, make, 2, 24, 5) == one);   // mid-training (after the fit at 4)
+    CHECK(renderResumed(*scene, make, 2, 24, 16) == one);  // frozen
 }
 
 TEST_CASE("guided bdpt: the same seed gives the same image for any thread count, and after a resume", "[guiding][bdpt]") {
@@ -415,28 +420,10 @@ TEST_CASE("guided bdpt: the same seed gives the same image for any thread count,
     BdptOptions options;
     options.connect = ConnectMode::Mis;
     options.guiding = true;
-    auto renderWith = [&](int threads, int stopAt, bool resume) {
-        BdptIntegrator bdpt(options);
-        Film film(24, 16);
-        RenderOptions o;
-        o.width = 24;
-        o.height = 16;
-        o.seed = 5;
-        o.threads = threads;
-        o.spp = stopAt;
-        render(*scene, bdpt, o, film);
-        if (resume) {
-            BdptIntegrator again(options);
-            again.loadState(bdpt.saveState());
-            o.spp = 40 - stopAt;
-            render(*scene, again, o, film);
-            return finalImage(film, again, o.sampler);
-        }
-        return finalImage(film, bdpt, o.sampler);
-    };
-    const std::vector<float> one = renderWith(1, 40, false);
-    CHECK(renderWith(2, 40, false) == one);
-    CHECK(renderWith(2, 5, true) == one);   // mid-training
-    CHECK(renderWith(2, 18, true) == one);  // during light tracing's learning passes
-    CHECK(renderWith(2, 30, true) == one);  // measuring the noise
+    auto make = [&] { return std::make_unique<BdptIntegrator>(options); };
+    const std::vector<float> one = renderResumed(*scene, make, 1, 40, 40);
+    CHECK(renderResumed(*scene, make, 2, 40, 40) == one);
+    CHECK(renderResumed(*scene, make, 2, 40, 5) == one);   // mid-training
+    CHECK(renderResumed(*scene, make, 2, 40, 18) == one);  // during light tracing's learning passes
+    CHECK(renderResumed(*scene, make, 2, 40, 30) == one);  // measuring the noise
 }

@@ -43,7 +43,7 @@ GuidedDistance GuidedDistance::on(const GuidingField* field, Vec3 o, Vec3 d, flo
     for (int i = 0; i < count; ++i) {
         const float a = std::max(leaves[i].t0, at), b = std::min(leaves[i].t1, len);
         push(at, a, nullptr);
-        push(std::max(a, at), b, leaves[i].cell);
+        push(a, b, leaves[i].cell);
         at = std::max(at, b);
     }
     push(at, len, nullptr);

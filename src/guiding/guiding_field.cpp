@@ -15,8 +15,8 @@ namespace {
 
 constexpr int kMaxDepth = 40;
 constexpr size_t kDirectOnlySplit = 4;  // (chosen, not tuned: guided distances only)
-// The shares α a cell may choose; at most 0.9, so phase sampling always keeps a tenth and a
-// poor fit costs at most a factor 10 in density (defensive mixture).
+// The shares α a cell may choose; at most 1/2, so phase sampling always keeps half and a
+// poor fit costs at most a factor 2 in density (defensive mixture).
 constexpr float kShares[] = {0.0f, 0.25f, 0.5f};
 constexpr int kShareCount = int(sizeof kShares / sizeof kShares[0]);
 constexpr double kGuidingCost = 0.1;

@@ -18,10 +18,12 @@
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/path_vertex.h"
+#include "brume/integrators/path_guide.h"
 #include "brume/integrators/visibility.h"
 #include "brume/sampling/equiangular.h"
 #include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
+#include "brume/sampling/vmf.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
 #include "support/film_estimates.h"
@@ -63,10 +65,19 @@ struct Checker : BdptObserver {
     mutable long paths = 0;
     mutable std::string worstInfo;
 
+    // The camera walk's guide (BdptOptions::guiding): its frozen field after the training
+    // passes, which weigh no bidirectional path.
+    const GuidingField* guide() const { return integrator && integrator->guide() ? integrator->guide()->field() : nullptr; }
+    mutable long guidedDensities = 0;  // camera-walk densities that were guided mixtures
+
     // Density at x[j] of the direction towards x[to], given it came from x[from] (−1: none).
-    double dirPdf(const std::vector<PathVertex>& x, int j, int from, int to) const {
+    // cameraWalk: the camera walk's density, which a guide makes the mixture
+    // α · p_guide + (1 − α) · p_phase/bsdf with α the share of the cell at x[j] (guided_phase.h).
+    double dirPdf(const std::vector<PathVertex>& x, int j, int from, int to, bool cameraWalk) const {
         const PathVertex& v = x[j];
         Vec3 wTo = normalize(x[to].p - v.p);
+        const GuidingField* field = cameraWalk ? guide() : nullptr;
+        const GuidingCell* cell = field && v.kind != VertexKind::Camera && v.kind != VertexKind::Light ? field->lookup(v.p) : nullptr;
         switch (v.kind) {
         case VertexKind::Camera: return cameraPdfDir(scene->camera(), wTo, kW, kW);
         case VertexKind::Light: {
@@ -74,10 +85,21 @@ struct Checker : BdptObserver {
             emissionPdf(*scene, scene->lights()[v.light], v.p, v.ng, wTo, &pos, &dir);
             return dir;
         }
-        case VertexKind::Medium: return hgPhase(dot(-normalize(x[from].p - v.p), wTo), v.medium->g);
+        case VertexKind::Medium: {
+            const Vec3 d = -normalize(x[from].p - v.p);
+            const double phase = hgPhase(dot(d, wTo), v.medium->g);
+            VmfMixture product;
+            if (!cell || !(cell->share > 0) || !vmfProduct(cell->medium, hgAsVmf(d, v.medium->g), &product)) return phase;
+            ++guidedDensities;
+            return cell->share * product.pdf(wTo) + (1 - cell->share) * phase;
+        }
         case VertexKind::Surface: {
             if (v.delta) return 0;
-            return vertexBsdf(*scene, v).pdf(normalize(x[from].p - v.p), wTo);
+            const Bsdf bsdf = vertexBsdf(*scene, v);
+            const double pdf = bsdf.pdf(normalize(x[from].p - v.p), wTo);
+            if (!cell || bsdf.isSpecular() || !(cell->surfaceShare > 0)) return pdf;
+            ++guidedDensities;
+            return cell->surfaceShare * cell->surface.pdf(wTo) + (1 - cell->surfaceShare) * pdf;
         }
         }
         return 0;
@@ -211,10 +233,10 @@ struct Checker : BdptObserver {
         // directions towards it are right.
         if (directional) x[k].p = x[k - 1].p - L.direction * 1000.0f;
         std::vector<Channels> fwd(k + 1, Channels(1.0)), rev(k + 1, Channels(1.0));
-        for (int i = 1; i <= k; ++i) fwd[i] = dirPdf(x, i - 1, i - 2, i) * stepFactor(x, i - 1, i);
+        for (int i = 1; i <= k; ++i) fwd[i] = dirPdf(x, i - 1, i - 2, i, true) * stepFactor(x, i - 1, i);
         // The camera walk passes through media to its vertex past the last scattering event
         // --max-depth allows (only an emitter hit, s = 0, uses it).
-        if (k == maxDepth + 1) fwd[k] = dirPdf(x, k - 1, k - 2, k) * stepFactor(x, k - 1, k, true);
+        if (k == maxDepth + 1) fwd[k] = dirPdf(x, k - 1, k - 2, k, true) * stepFactor(x, k - 1, k, true);
         // So does it to its last scattering event x(m), m = maxDepth, after a vertex that is not
         // specular, where equi-angular light connections cover the medium (no directional
         // light, no invisible boundary): it reaches a surface there with free-flight density 1
@@ -222,7 +244,7 @@ struct Checker : BdptObserver {
         const int m = maxDepth;
         const bool lastPasses = connect != ConnectMode::Density && eaLight && m >= 1 && m <= k && !scene->hasInvisibleBoundaries() &&
                                 !scene->hasDirectionalLights() && !(x[m - 1].isSurface() && x[m - 1].delta);
-        if (lastPasses && !x[m].isMedium()) fwd[m] = dirPdf(x, m - 1, m - 2, m) * stepFactor(x, m - 1, m, true);
+        if (lastPasses && !x[m].isMedium()) fwd[m] = dirPdf(x, m - 1, m - 2, m, true) * stepFactor(x, m - 1, m, true);
         const bool lastMediumUnmade = lastPasses && x[m].isMedium();
         float pos, dir;
         {
@@ -243,7 +265,7 @@ struct Checker : BdptObserver {
                     rev[i] = pos * (isAreaLike(y[i]) ? std::abs(dot(y[i].ng, up)) : 1.0) * c.freeFlightToA;
                     continue;
                 }
-                rev[i] = dirPdf(y, i + 1, i + 2 <= k ? i + 2 : -1, i) * stepFactor(y, i + 1, i);
+                rev[i] = dirPdf(y, i + 1, i + 2 <= k ? i + 2 : -1, i, false) * stepFactor(y, i + 1, i);
             }
         }
         auto remap = [](double p) { return p != 0 ? p : 1.0; };
@@ -324,7 +346,7 @@ namespace {
 
 void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::Density, bool exact = false,
                   bool general = false, float connectP = 1, const BdptAllocation* allocation = nullptr,
-                  double directFactor = -1, int maxDepth = 4) {
+                  double directFactor = -1, int maxDepth = 4, bool guiding = false) {
     for (MisHeuristic h : {MisHeuristic::Power, MisHeuristic::Balance}) {
         auto scene = loadTestScene(file);
         Checker checker;
@@ -349,6 +371,8 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
             checker.eaOnly = allocation->equiAngularOnly;
         }
         opt.directLightTracing = directFactor;
+        opt.guiding = guiding;
+        opt.guideShare = guiding ? 0.5f : -1.0f;  // (a learned share may be 0 on so few records)
         if (directFactor >= 0) checker.directFactor = directFactor;
         opt.hooks.observer = &checker;
         Film film(kW, kW);
@@ -364,6 +388,10 @@ void checkWeights(const char* file, int spp, ConnectMode connect = ConnectMode::
                   << " weighted paths, worst |w − w_expected| = " << checker.worst << " (" << checker.worstInfo << ")");
         CHECK(checker.paths > 100);
         CHECK(checker.worst < checker.worstTolerance);
+        if (guiding) {  // the guide must have guided, or the test proves nothing
+            INFO(checker.guidedDensities << " guided camera-walk densities");
+            CHECK(checker.guidedDensities > 100);
+        }
     }
 }
 
@@ -487,4 +515,17 @@ TEST_CASE("bdpt MIS weights with light tracing's share of one-event paths scaled
         checkWeights("single_near.gltf", 16, m, false, false, 0.25f, nullptr, -1, 1);
         checkWeights("quad_light_fog.gltf", 16, m, false, false, 0.25f, nullptr, -1, 1);
     }
+}
+
+// Guided camera walks (`--guiding on`): after the guide's training passes the camera walk
+// samples directions from the guided mixture at medium and surface vertices, and every
+// weight reads that mixture wherever a density is the camera walk's (path_vertex.h).
+TEST_CASE("bdpt MIS weights with guided camera walks", "[bdpt][mis][guiding]") {
+    for (ConnectMode m : {ConnectMode::Density, ConnectMode::Mis}) {
+        checkWeights("quad_light_fog.gltf", 20, m, false, false, 1, nullptr, -1, 4, true);
+        checkWeights("bdpt_quad_fogbox.gltf", 20, m, false, true, 0.3f, nullptr, -1, 4, true);
+    }
+    checkWeights("quad_light_fog_chromatic.gltf", 20, ConnectMode::Mis, false, false, 1, nullptr, -1, 4, true);
+    // --max-depth 2: the camera walk passes through media at its last events (passedLightPrefix).
+    checkWeights("quad_light_fog.gltf", 20, ConnectMode::Mis, false, false, 0.25f, nullptr, -1, 2, true);
 }

@@ -31,7 +31,8 @@ struct Subpaths {
 }  // namespace
 
 BdptIntegrator::BdptIntegrator(BdptOptions options)
-    : options_(options), pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding}) {
+    : options_(options),
+      pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding, options.guideShare}) {
     if (options_.guiding && options_.efficiencyAware)
         throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
@@ -208,7 +209,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const int channels = scene.mediumChannels();
     const int hero = channels > 1 ? std::min(channels - 1, int(sampler.get1D(dim::kHeroChannel) * channels)) : 0;
     const uint64_t rays0 = stats.rays;
-    // Guided survival of the camera walk, after the guide's training passes.
+    // Guided directions and survival of the camera walk, after the guide's training passes.
     const PathGuide* guide = options_.guiding ? pathTracer_.guide() : nullptr;
     const GuidingField* field = guide ? guide->field() : nullptr;
     const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
@@ -226,7 +227,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // learned share (lightSubpathsMade), chosen by a number of the image-wide sequence.
     const double lightMade = lightSubpathsMade();
     const bool traced = options_.allocation.lightSubpaths && (lightMade >= 1.0 || lightSampler.get1D(dim::kLightStart + dim::kMade) < lightMade);
-    const int nLight = traced ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats) : 0;
+    const int nLight = traced ? traceLightSubpath(scene, maxScatter, hero, lightSampler, light, stats, field) : 0;
     stats.counts.bdpt.cameraWalkRays += rays1 - rays0;
     stats.counts.bdpt.lightWalkRays += stats.rays - rays1;
 
@@ -239,6 +240,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     mis.equiAngularLight = options_.allocation.equiAngularLight;
     mis.equiAngularCamera = options_.allocation.equiAngularCamera;
     mis.equiAngularOnly = options_.allocation.equiAngularOnly;
+    mis.cameraGuide = field;
     if (usesShare_) mis.directLightTracing = direct_->factor();
     else if (options_.directLightTracing >= 0) mis.directLightTracing = options_.directLightTracing;
     if (weighted) {

@@ -93,7 +93,11 @@ bool equiAngularVertex(const Scene& scene, const PathVertex& edge, const PathVer
     // pdfFwd: the equi-angular density of the point as the weights see it (the stand-in
     // unless exact): direction density × 1/d² × p_ea.
     *density = equiAngularDensity(scene, prev, v, aim, mis);
-    v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height), dist) *
+    // (prev's direction density is the camera walk's, guided, unless v is on a light walk's
+    // ray: a camera connection's vertex, aimed at the camera.)
+    const GuidingField* guide = aim.toCamera ? nullptr : mis.cameraGuide;
+    v.pdfFwd = solidAngleToArea(v, v.wo, vertexDirectionPdf(scene, prev, prevFrom, -v.wo, mis.width, mis.height, guide),
+                                dist) *
                *density;
     return v.pdfFwd[0] > 0;  // one density for every channel: the equi-angular one
 }

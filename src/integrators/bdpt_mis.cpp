@@ -170,7 +170,9 @@ ChannelsOf<Real> passedLightPrefix(const Scene& scene, const PathVertex* light, 
             const float d = length(w);
             w = d > 0 ? w / d : Vec3(0.0f);
             rev = solidAngleToArea(
-                light[i], w, vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, st.width, st.height),
+                light[i], w,
+                vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, st.width, st.height,
+                                   st.cameraGuide),
                 d);
         }
         const bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
@@ -317,7 +319,8 @@ double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* 
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)
 // and d their distance; every one is (direction density at the vertex that would make it) ×
-// (solid angle → area) × (free flight of that step), as in randomWalk:
+// (solid angle → area) × (free flight of that step), as in randomWalk (the direction
+// densities of y(s−1) and y(s−2) are the camera walk's: guided with MisSettings::cameraGuide):
 //   z(t−1)  made from y(s−1) (which came from y(s−2), or is on the light): the connection's
 //           free flight towards the camera; for s = 0, z(t−1) lies on the light and would have
 //           been its start: pick · position density;
@@ -369,11 +372,11 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
     // by passing through media from st.passFrom on.
     y.pdfRev = y.kind == VertexKind::Light && y.deltaLight
                    ? Channels(0.0)
-                   : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H), d) *
+                   : solidAngleToArea(y, w, vertexDirectionPdf(scene, z, z.wo, w, W, H, st.cameraGuide), d) *
                          (passesTo(st, t, y) ? Channels(1.0) : join.freeFlightToLight);
     if (s >= 2) {
         PathVertex& ym = light[s - 2];
-        ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H), y.edgeDist) *
+        ym.pdfRev = solidAngleToArea(ym, y.wo, vertexDirectionPdf(scene, y, -w, y.wo, W, H, st.cameraGuide), y.edgeDist) *
                     (passesTo(st, t + 1, ym) ? Channels(1.0) : y.edgeRevFreeFlight);
     }
 }

@@ -50,7 +50,7 @@ int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int he
 }
 
 int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sampler& sampler, PathVertex* path,
-                      PathStats& stats) {
+                      PathStats& stats, const GuidingField* cameraGuide) {
     if (scene.lightDistribution().empty()) return 0;
     float pick;
     int li = pickLight(scene, sampler, dim::kLightStart, 0, &pick);
@@ -72,6 +72,7 @@ int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sample
     float cosLight = dot(es.n, es.n) > 0 ? std::abs(dot(es.n, es.d)) : 1.0f;
     Spectrum beta = es.Le * (cosLight / (pick * es.pdfPos * es.pdfDir));
     WalkStart start{leaving(es.p, es.n, es.d), y0.media, beta, directional ? 1.0f : es.pdfDir, 0, 0, dim::Side::Light, hero};
+    start.guide = cameraGuide;  // (for the reverse densities alone)
     int n = randomWalk(scene, start, TransportMode::Importance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
     if (directional && n > 1) {
         // Parallel rays: the disk's area density projects onto y1 with |cos| and no 1/d².

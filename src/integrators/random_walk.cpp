@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "brume/guiding/guided_phase.h"
 #include "brume/guiding/guided_survival.h"
 #include "brume/integrators/free_flight_walk.h"
 #include "brume/sampling/free_flight.h"
@@ -27,7 +28,12 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
 // ghostAfter: path[count] records a ray the walk traced from path[count − 1] without making a
 // vertex (PathVertex::ghost); an equi-angular variant may place one there, on that ray from
 // path[count − 1].p itself, so path[count − 2].pdfRev uses the ray's direction.
-void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, int height, bool ghostAfter) {
+// guide: the camera walk's (random_walk.h), read by the densities that are that walk's (pdfFwd
+// on the camera side, pdfRev on the light side).
+void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, int height, bool ghostAfter,
+                   bool cameraSide, const GuidingField* guide) {
+    const GuidingField* fwdGuide = cameraSide ? guide : nullptr;
+    const GuidingField* revGuide = cameraSide ? nullptr : guide;
     for (int i = 1; i < count; ++i) {  // wo along the edge itself, not the offset ray
         Vec3 back = path[i - 1].p - path[i].p;
         float len = length(back);
@@ -46,11 +52,11 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
         Vec3 w = toV / dist;
         Vec3 prevFrom = i >= 2 ? normalize(path[i - 2].p - prev.p) : prev.wo;
         if (!prev.delta)
-            v.pdfFwd = solidAngleToArea(v, w, vertexDirectionPdf(scene, prev, prevFrom, w, width, height), dist) *
+            v.pdfFwd = solidAngleToArea(v, w, vertexDirectionPdf(scene, prev, prevFrom, w, width, height, fwdGuide), dist) *
                        v.edgeFwdFreeFlight;
         if ((i + 1 < count || ghostAfter) && !v.delta) {
             Vec3 vFrom = i + 1 < count ? normalize(path[i + 1].p - v.p) : path[i + 1].edgeDir;
-            prev.pdfRev = solidAngleToArea(prev, w, vertexDirectionPdf(scene, v, vFrom, -w, width, height), dist) *
+            prev.pdfRev = solidAngleToArea(prev, w, vertexDirectionPdf(scene, v, vFrom, -w, width, height, revGuide), dist) *
                           v.edgeRevFreeFlight;
         }
     }
@@ -61,7 +67,8 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats) {
     int count = walk(scene, start, mode, maxScatter, sampler, path, maxVertices, stats);
-    edgeDensities(scene, path, count, start.width, start.height, count < maxVertices && path[count].ghost);
+    edgeDensities(scene, path, count, start.width, start.height, count < maxVertices && path[count].ghost,
+                  start.side == dim::Side::Camera, start.guide);
     return count;
 }
 
@@ -76,6 +83,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
     const bool coloured = scene.mediumChannels() > 1;
     const float rrScale = maxComponent(start.beta) > 0 ? maxComponent(start.beta) : 1.0f;
     const Spectrum channels = heroChannel(start.hero);
+    const GuidingField* guide = start.side == dim::Side::Camera ? start.guide : nullptr;  // (random_walk.h)
     int count = 1, scatters = 0;
     if (maxVertices > 1) path[1].ghost = false;
     while (count < maxVertices && scatters < maxScatter) {
@@ -138,14 +146,34 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         // Sample the continuation; its reverse density completes prev.pdfRev.
         Vec3 wi;
         float pdfFwdDir, pdfRevDir;
+        // Guided (camera walk with a guide): from the mixture α · guide + (1 − α) · phase/BSDF,
+        // weight f / p_mixture (guided_phase.h; u.u picks the technique, rescaled). The reverse
+        // density is the light walk's, never guided.
         if (v.isMedium()) {
-            wi = sampleHG(ray.d, v.medium->g, sampler.get2D(dims + dim::kDirection));  // phase/pdf = 1
-            pdfFwdDir = pdfRevDir = hgPhase(dot(ray.d, wi), v.medium->g);
+            const GuidedPhase gp = GuidedPhase::at(guide, v.p, ray.d, v.medium->g);
+            wi = gp.sample(sampler.get2D(dims + dim::kDirection));
+            pdfRevDir = hgPhase(dot(ray.d, wi), v.medium->g);
+            pdfFwdDir = gp.share > 0 ? gp.pdf(wi) : pdfRevDir;  // unguided: phase/pdf = 1
+            if (gp.share > 0) beta *= pdfFwdDir > 0 ? pdfRevDir / pdfFwdDir : 0.0f;
         } else {
             Bsdf bsdf = vertexBsdf(scene, v);
+            const GuidingCell* cell = guide && !bsdf.isSpecular() ? guide->lookup(v.p) : nullptr;
+            const float share = cell ? cell->surfaceShare : 0.0f;
             BsdfSample bs;
-            if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), sampler.get2D(dims + dim::kDirection), &bs, mode))
+            const Sample2 u = sampler.get2D(dims + dim::kDirection);
+            if (share > 0) {  // (opaque: only dielectrics, which are specular, transmit)
+                if (u.u < share) {
+                    bs.wi = cell->surface.sample(Sample2{std::min(u.u / share, 0x1.fffffep-1f), u.v});
+                } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe),
+                                        Sample2{std::min((u.u - share) / (1.0f - share), 0x1.fffffep-1f), u.v}, &bs, mode)) {
+                    return count;
+                }
+                bs.pdf = share * cell->surface.pdf(bs.wi) + (1.0f - share) * bsdf.pdf(v.wo, bs.wi);
+                bs.weight = bs.pdf > 0 ? bsdf.eval(v.wo, bs.wi) / bs.pdf : Spectrum(0.0f);
+                bs.specular = bs.transmitted = false;
+            } else if (!bsdf.sample(v.wo, sampler.get1D(dims + dim::kLobe), u, &bs, mode)) {
                 return count;
+            }
             wi = bs.wi;
             Spectrum w = bs.weight;
             if (mode == TransportMode::Importance) w *= shadingNormalCorrection(v.wo, wi, v.ng, v.ns);
@@ -172,7 +200,7 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         // the throughput before v's scattering). Survival probabilities enter no MIS weight
         // (nor does the throughput roulette's).
         const GuidingCell* cell =
-            start.guide && !coloured && scatters < kGuidedSurvivalDepth ? start.guide->lookup(v.p) : nullptr;
+            guide && !coloured && scatters < kGuidedSurvivalDepth ? guide->lookup(v.p) : nullptr;
         const float adjoint = cell ? (v.isMedium() ? cell->mediumAdjoint : cell->surfaceAdjoint) : -1.0f;
         if (adjoint >= 0 && start.pixelValue > 0) {
             const float survive = guidedSurvival(v.beta, adjoint, start.pixelValue);

@@ -66,8 +66,10 @@ struct BdptOptions {
     double directLightTracing = -1.0;
     // Path guiding (`--guiding on`, docs/path-guiding.md): the first PathGuide::kLastFitPass
     // passes are the guided path tracer's training passes; after them the camera walk
-    // survives by the learned field (guided survival). Not with efficiencyAware.
+    // samples directions from the learned field and survives by it (guided survival). Not
+    // with efficiencyAware.
     bool guiding = false;
+    float guideShare = -1;  // ≥ 0: the guided share α in every cell, not learned (tests)
 
     // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general
     // connections with probability 1/4, by default.

@@ -53,6 +53,10 @@ struct MisSettings {
     // or light tracing (the camera connection's variants only).
     enum class Alone { None, CameraSide, LightTracing };
     Alone directAlone = Alone::None;
+    // The camera walk's guide (`--guiding on`, random_walk.h): every density that is the
+    // camera walk's direction choice is the guided mixture (path_vertex.h,
+    // vertexDirectionPdf). Null: no guiding.
+    const GuidingField* cameraGuide = nullptr;
 };
 
 // Whether a connection's equi-angular variant, where it is on at a medium vertex, replaces

@@ -24,14 +24,14 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 // vertex passFrom on, and at passFirstAt after a vertex that is not specular, the walk passes
 // through media (WalkStart). Returns the vertex count, z0 included. hero: the colour channel
 // that drives free flight in coloured media (both subpaths of a sample share it). guide and
-// pixelValue: guided survival (WalkStart).
+// pixelValue: guided directions and survival (WalkStart).
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
                        int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
                        const GuidingField* guide = nullptr, float pixelValue = -1.0f);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
-// reaches nothing).
+// reaches nothing). cameraGuide: the camera walk's guide, for the reverse densities (WalkStart).
 int traceLightSubpath(const Scene& scene, int maxScatter, int hero, const Sampler& sampler, PathVertex* path,
-                      PathStats& stats);
+                      PathStats& stats, const GuidingField* cameraGuide = nullptr);
 
 }  // namespace brume

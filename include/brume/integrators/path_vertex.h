@@ -6,6 +6,7 @@
 // too (bdpt_mis.h). pdfFwd is for the subpath's own direction; pdfRev for the reverse, i.e.
 // the density with which the other subpath's walk would have made this vertex.
 #pragma once
+#include "brume/guiding/guiding_field.h"
 #include "brume/math/vec3.h"
 #include "brume/scene/bsdf.h"
 #include "brume/scene/scene.h"
@@ -79,7 +80,13 @@ namespace brume {
 // Solid-angle density with which vertex v, reached from direction wFrom (unit, pointing away
 // from v towards where its path came from), continues in direction wTo: camera, emission,
 // phase function or BSDF (0 for a specular surface and for sphere lights, which end paths).
-float vertexDirectionPdf(const Scene& scene, const PathVertex& v, Vec3 wFrom, Vec3 wTo, int width, int height);
+// guide: the density is the camera walk's and that walk is guided (`--guiding on`,
+// docs/path-guiding.md): at medium and non-specular surface vertices the guided mixture
+//   α · p_guide(wTo) + (1 − α) · p_phase/bsdf(wTo)   (guided_phase.h)
+// with α the share of the cell at v.p. The light walk is never guided: its densities, and
+// every density of a walk without guiding, pass null.
+float vertexDirectionPdf(const Scene& scene, const PathVertex& v, Vec3 wFrom, Vec3 wTo, int width, int height,
+                         const GuidingField* guide = nullptr);
 
 // The BSDF of a surface vertex (base colour texture applied).
 inline Bsdf vertexBsdf(const Scene& scene, const PathVertex& v) { return scene.surfaceBsdf(v.mesh, v.u, v.v, v.ng, v.ns); }

@@ -25,9 +25,11 @@ struct WalkStart {
     // media too: the camera walk's last scattering event where equi-angular light
     // connections cover the medium (bdpt.cpp; bdpt_mis.h, MisSettings::passFirstAt).
     int passFirstAt = 1 << 30;
-    // Guided survival of the camera walk (`--guiding on`, docs/path-guiding.md): the frozen
-    // guiding field and the pixel's value as the training passes saw it; null or ≤ 0: the
-    // throughput roulette.
+    // The camera walk's guide (`--guiding on`, docs/path-guiding.md): the frozen guiding field.
+    // A camera walk samples its directions from the guided mixture (guided_phase.h) and, with
+    // pixelValue (the pixel as the training passes saw it) > 0, survives by it (guided
+    // survival; else the throughput roulette). A light walk is not guided: the field only
+    // gives the densities with which the camera walk would retrace its edges (pdfRev).
     const GuidingField* guide = nullptr;
     float pixelValue = -1;
 };

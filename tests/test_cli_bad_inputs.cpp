@@ -93,6 +93,7 @@ const BadFile kBadFiles[] = {
     {"grid_nan_voxel.gltf", "nan.vdb: grid \"density\" has a NaN voxel value"},
     {"grid_frustum.gltf", "frustum.vdb: grid \"density\" has a non-affine (NonlinearFrustumMap) transform"},
     {"grid_negative_scale.gltf", "density.scale: scale -2 must be finite and >= 0"},
+    {"grid_too_dense.gltf", "smoke_ok.vdb: grid \"density\": optical depth 1374999.99 across one voxel"},
 };
 
 // The density grids the grid_*.gltf files point at (make_bad.py).

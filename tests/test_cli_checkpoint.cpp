@@ -293,6 +293,25 @@ TEST_CASE("cli checkpoint: damaged or mismatched checkpoints are one-line errors
     CHECK(summarySpp(r.out) == 4);
 }
 
+// Every file a scene reads is part of it (scene_identity.h): a density grid replaced after the
+// checkpoint (another grid of the same name) is refused, naming the grid's file; put back, the
+// render resumes.
+TEST_CASE("cli checkpoint: a grid changed after the checkpoint is refused, naming its file", "[cli][checkpoint]") {
+    TempDir dir;
+    fs::copy_file(data("single_gradient.gltf"), dir / "scene.gltf");
+    fs::copy_file(data("gradient.vdb"), dir / "gradient.vdb");
+    const Args base = {dir / "scene.gltf", "--res", "16x12", "--spp", "4", "--seed", "3"};
+    REQUIRE(run(base + Args{"-o", dir / "a.pfm", "--checkpoint", dir / "c.ckpt", "--stop-after-passes", "1"}).code == 143);
+    fs::copy_file(data("ramp.vdb"), dir / "gradient.vdb", fs::copy_options::overwrite_existing);
+    checkOneLineError(run(base + Args{"-o", dir / "out.pfm", "--resume", dir / "c.ckpt"}),
+                      "cannot resume this render: the FNV-1a hash of gradient.vdb is ");
+    CHECK_FALSE(fs::exists(dir / "out.pfm"));
+    fs::copy_file(data("gradient.vdb"), dir / "gradient.vdb", fs::copy_options::overwrite_existing);
+    Result r = run(base + Args{"-o", dir / "out.pfm", "--resume", dir / "c.ckpt"});
+    CHECK(r.code == 0);
+    CHECK(summarySpp(r.out) == 4);
+}
+
 TEST_CASE("cli checkpoint: option errors", "[cli][checkpoint]") {
     TempDir dir;
     const std::string scene = data("single_near.gltf");

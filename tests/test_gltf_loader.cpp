@@ -678,6 +678,32 @@ TEST_CASE("external buffers and binary glTF", "[gltf]") {
     }
 }
 
+// The files a scene was read from (SceneDescription::files), whose contents are its identity
+// for checkpoints and MPI ranks: the scene file first, then buffers and images named by URI
+// (%-escapes decoded, as tinygltf opens them), each once; embedded ones are not files.
+TEST_CASE("a scene lists every file it reads, each once", "[gltf]") {
+    TempDir dir;
+    Gltf g = withCamera();
+    g.addRoot("\"translation\":[0,0,-1],\"mesh\":" + str(addTriangle(g)));
+    g.storage = Gltf::Storage::External;
+    g.externalBuffer = "triangle.bin";
+    dir.write("triangle.bin", std::string(g.bin.begin(), g.bin.end()));
+    std::vector<unsigned char> png = unbase64(kPngRgb);
+    dir.write("base colour.png", std::string(png.begin(), png.end()));
+    g.addImage("\"uri\":\"base%20colour.png\"");
+    g.addImage("\"uri\":\"base%20colour.png\"");  // the same file twice
+    g.addImage("\"uri\":\"data:image/png;base64," + std::string(kPngRgb) + "\"");
+    const std::string scene = dir.write(g);
+    const SceneDescription d = loadGltf(scene);
+    CHECK(d.files == std::vector<std::string>{scene, dir.path("triangle.bin"), dir.path("base colour.png")});
+    const std::string glb = dir.write("scene.glb", g.glb());  // (it holds its buffer)
+    CHECK(loadGltf(glb).files == std::vector<std::string>{glb, dir.path("base colour.png")});
+
+    // A density grid, beside the scene file in tests/data.
+    const std::string gradient = std::string(BRUME_TEST_DATA) + "/single_gradient.gltf";
+    CHECK(loadGltf(gradient).files == std::vector<std::string>{gradient, std::string(BRUME_TEST_DATA) + "/gradient.vdb"});
+}
+
 TEST_CASE("the example in docs/scene-format.md loads and matches the fixture", "[gltf]") {
     const std::string fixture = std::string(BRUME_TEST_DATA) + "/loader/example.gltf";
     SceneDescription d = loadGltf(fixture);

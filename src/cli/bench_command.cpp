@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "brume/cli/build_identity.h"
+#include "brume/cli/scene_identity.h"
 #include "brume/cli/command_line.h"
 #include "brume/cli/commands.h"
 #include "brume/integrators/allocation_planner.h"
@@ -387,18 +388,18 @@ std::string hex64(uint64_t value) {
 
 // What a cached reference was rendered from, and by which build of brume (another build may
 // render differently): the fields of reference.json. A cache matches when every field does.
-// The scene is keyed by the FNV-1a hash of its bytes, so a regenerated scene at the same path
-// does not reuse a stale reference (buffers in separate files are not covered; the bundled
-// scenes embed theirs).
+// The scene is keyed by the FNV-1a hash of every file it was read from (scene_identity.h), so
+// a regenerated scene, buffer or grid at the same path does not reuse a stale reference.
 using Record = nlohmann::ordered_json;
 
-Record referenceRecord(const std::string& scenePath, Resolution res, int spp, const char* method, int maxDepth) {
+Record referenceRecord(const std::string& scenePath, const SceneDescription& scene, Resolution res, int spp,
+                       const char* method, int maxDepth) {
     std::error_code ec;
     fs::path absolute = fs::weakly_canonical(fs::absolute(scenePath), ec);
     if (ec) absolute = fs::absolute(scenePath).lexically_normal();
     Record r;
     r["scene"] = absolute.string();
-    r["scene_fnv1a64"] = hex64(fnv1a64File(scenePath));
+    r["scene_fnv1a64"] = hex64(sceneContentHash(scene));
     r["width"] = res.width;
     r["height"] = res.height;
     r["spp"] = spp;
@@ -418,7 +419,7 @@ std::string cacheMismatch(const std::string& cachedText, const Record& wanted) {
     for (const auto& [key, value] : wanted.items()) {
         if (!cached.contains(key)) return "reference.json has no " + key;
         if (cached[key] != value) {
-            if (key == "scene_fnv1a64") return "the scene file changed";
+            if (key == "scene_fnv1a64") return "the scene (a file it reads) changed";
             if (key == "brume_build_fnv1a64") return "made by another build of brume";
             if (key == "width" || key == "height") return "different resolution";
             return "different " + key;
@@ -542,7 +543,7 @@ bool benchInterrupted() {
 // else rendered (and cached) now. False if interrupted.
 bool cachedOrRenderedReference(const BenchArgs& a, Scene& scene, Resolution res, const std::string& referencePath,
                                const std::string& recordPath, std::vector<float>& reference) {
-    Record wanted = referenceRecord(a.scene, res, a.referenceSpp, a.referenceMethod->name, a.maxDepth);
+    Record wanted = referenceRecord(a.scene, scene.desc(), res, a.referenceSpp, a.referenceMethod->name, a.maxDepth);
     bool haveRecord = false;
     std::string cachedText = readTextFile(recordPath, &haveRecord);
     std::string why = haveRecord ? cacheMismatch(cachedText, wanted) : "no cached reference";

@@ -26,6 +26,7 @@
 #include "brume/render/checkpoint.h"
 #include "brume/film/film.h"
 #include "brume/render/fnv1a.h"
+#include "brume/cli/scene_identity.h"
 #include "brume/film/image_io.h"
 #include "brume/render/renderer.h"
 
@@ -344,11 +345,10 @@ const char* connectName(ConnectMode mode) {
 }
 
 // Everything that changes the image's bits (not --threads): a checkpoint continues only
-// under the same settings.
-CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint64_t sceneHash) {
-    char hash[20];
-    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(sceneHash));
-    return {{"the scene file's FNV-1a hash", hash},
+// under the same settings. The scene: every file it was read from (scene_identity.h).
+CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const SceneDescription& scene) {
+    CheckpointSettings settings = sceneFileSettings(scene);
+    const CheckpointSettings options = {
             {"--res", std::to_string(res.width) + "x" + std::to_string(res.height)},
             {"--seed", std::to_string(a.seed)},
             {"--sampler", samplerName(a.sampler)},
@@ -362,6 +362,8 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, uint6
             {"--guided-distances", a.guidedDistances < 0 ? "off" : (a.guidedDistances == 0 ? "camera" : "all")},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
+    settings.insert(settings.end(), options.begin(), options.end());
+    return settings;
 }
 
 // Throws std::runtime_error (one line, exit code 1) unless `saved` continues this render.
@@ -369,7 +371,9 @@ void checkResumable(const std::string& file, const Checkpoint& saved, const Chec
                     Resolution res, int spp) {
     std::string mismatch = checkpointMismatch(saved.settings, now);
     if (!mismatch.empty()) {
-        if (mismatch.rfind("the scene file", 0) == 0) mismatch += " (it was made from " + saved.scenePath + ")";
+        if (mismatch.rfind("the scene file", 0) == 0 || mismatch.rfind("the FNV-1a hash of", 0) == 0 ||
+            mismatch.rfind("the checkpoint has the FNV-1a hash of", 0) == 0)
+            mismatch += " (it was made from " + saved.scenePath + ")";
         throw std::runtime_error(file + ": cannot resume this render: " + mismatch);
     }
     if (saved.film.width() != res.width || saved.film.height() != res.height || saved.film.passes() > spp)
@@ -414,7 +418,7 @@ int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv
     if (group.distributed()) {
         // Every rank must render the same thing: its arguments and its scene file's bytes.
         Fnv1a64 h;
-        const uint64_t sceneHash = fnv1a64File(a.scene);
+        const uint64_t sceneHash = sceneContentHash(sceneStorage->desc());  // every file (scene_identity.h)
         h.add(&sceneHash, sizeof sceneHash);
         for (const std::string& arg : argv) h.add(arg.c_str(), arg.size() + 1);  // (with its terminator)
         const uint64_t key = h.value();
@@ -536,7 +540,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     // dropped by earlier runs.
     const std::string scenePath = absolutePath(a.scene);
     CheckpointSettings settings;
-    if (!a.checkpoint.empty() || resumed) settings = checkpointSettings(a, res, fnv1a64File(a.scene));
+    if (!a.checkpoint.empty() || resumed) settings = checkpointSettings(a, res, scene.desc());
     Film film(res.width, res.height);
     uint64_t earlierNonFinite = 0;
     if (resumed) {

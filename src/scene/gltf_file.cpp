@@ -1,6 +1,7 @@
 // glTF loader: reading the file through tinygltf, and turning every problem into a one-line
 // SceneError that names the file and the offending field.
 #include <cctype>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -145,6 +146,40 @@ tinygltf::Model readModel(const Source& src) {
                  "cannot load '" + uri + "'" + (warn.empty() ? std::string() : " (" + tidy(warn) + ")"));
     }
     return model;
+}
+
+std::string besideScene(const Source& src, const std::string& relative) {
+    if (relative.empty() || relative[0] == '/') return relative;
+    const size_t slash = src.path.find_last_of('/');
+    return slash == std::string::npos ? relative : src.path.substr(0, slash + 1) + relative;
+}
+
+namespace {
+// A URI's %XX escapes decoded, as tinygltf decodes them before opening the file.
+std::string decodeUri(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) &&
+            std::isxdigit((unsigned char)uri[i + 2])) {
+            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+}  // namespace
+
+void addReferencedFiles(const Source& src, const tinygltf::Model& model, std::vector<std::string>& files) {
+    auto add = [&](const std::string& uri) {
+        if (uri.empty() || uri.rfind("data:", 0) == 0) return;
+        const std::string path = besideScene(src, decodeUri(uri));
+        if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
+    };
+    for (const tinygltf::Buffer& b : model.buffers) add(b.uri);
+    for (const tinygltf::Image& image : model.images)
+        if (image.bufferView == -1) add(image.uri);
 }
 
 const tinygltf::Value* member(const tinygltf::Value& object, const char* key) {

@@ -205,6 +205,8 @@ SceneDescription loadGltf(const std::string& path) {
 
     SceneDescription desc;
     desc.path = path;
+    desc.files.push_back(path);
+    gltf::addReferencedFiles(src, model, desc.files);
     auto media = model.extensions.find("BRUME_media");
     if (media != model.extensions.end()) gltf::parseMedia(src, media->second, desc);
     auto render = model.extensions.find("BRUME_render");

@@ -1,5 +1,6 @@
 // glTF loader: the BRUME_media extension (homogeneous media, the ambient medium, and the
 // medium a closed mesh encloses).
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -34,9 +35,31 @@ Spectrum coefficient(const Source& src, const tinygltf::Value* v, const std::str
     return s;
 }
 
+// The limit on a grid medium's density: the optical depth across one voxel (the largest
+// extinction coefficient × scale × the largest voxel value × the voxel's longest edge in
+// world units, the grid placed by `node`) is at most kMaxVoxelOpticalDepth. Beyond it the
+// medium is opaque within 1/10000 of a voxel, finer than any grid resolves; tracking would
+// take that many steps per voxel, and its float distances would stop advancing. Refused,
+// naming the file and grid.
+constexpr double kMaxVoxelOpticalDepth = 1e4;
+
+void checkOpticalDepth(const Source& src, const Medium& medium, const Mat4& node, const std::string& field) {
+    const Mat4 toWorld = node * medium.density.indexToWorld;
+    double edge = 0;
+    for (Vec3 axis : {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)}) edge = std::max(edge, double(length(toWorld.vector(axis))));
+    const Spectrum k = medium.sigmaT();
+    const double tau = double(std::max(k.x, std::max(k.y, k.z))) * medium.density.scale * medium.density.grid->maxValue * edge;
+    if (!(tau <= kMaxVoxelOpticalDepth))
+        src.fail(field, medium.density.source + ": optical depth " + num(tau) +
+                            " across one voxel (largest extinction x scale x largest voxel value x voxel size) is beyond " +
+                            num(kMaxVoxelOpticalDepth) + "; lower the scale or the coefficients");
+}
+
 // "density": {"uri": "smoke.vdb", "grid": "density", "scale": 1}: the coefficients become per
 // unit density; the grid sits in world space until a mesh's node places it (placeInteriorGrid).
-void parseDensity(const Source& src, const tinygltf::Value& d, const std::string& field, Medium& medium) {
+// Both check the medium's density against the limit (checkOpticalDepth).
+void parseDensity(const Source& src, const tinygltf::Value& d, const std::string& field, Medium& medium,
+                  std::vector<std::string>& files) {
     if (!d.IsObject()) src.fail(field, "expected an object {\"uri\": ..., \"grid\": ..., \"scale\": ...}");
     const tinygltf::Value* uri = member(d, "uri");
     if (!uri || !uri->IsString() || uri->Get<std::string>().empty())
@@ -52,11 +75,7 @@ void parseDensity(const Source& src, const tinygltf::Value& d, const std::string
         scale = s->GetNumberAsDouble();
         if (!std::isfinite(scale) || scale < 0 || scale > 1e30) src.fail(field + ".scale", "scale " + num(scale) + " must be finite and >= 0");
     }
-    std::string path = uri->Get<std::string>();
-    if (path[0] != '/') {
-        const size_t slash = src.path.find_last_of('/');
-        if (slash != std::string::npos) path = src.path.substr(0, slash + 1) + path;
-    }
+    const std::string path = besideScene(src, uri->Get<std::string>());
     VdbDensity vdb;
     if (!std::ifstream(path)) src.fail(field + ".uri", "cannot open '" + path + "': " + std::strerror(errno));
     try {
@@ -64,13 +83,16 @@ void parseDensity(const Source& src, const tinygltf::Value& d, const std::string
     } catch (const SceneError& e) {
         src.fail(field + ".uri", e.what());  // "<vdb path>: <problem>", after the scene's path and field
     }
+    if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
     medium.density.grid = vdb.grid;
     medium.density.indexToWorld = vdb.indexToWorld;
     medium.density.scale = float(scale);
+    medium.density.source = path + ": grid \"" + (gridName.empty() ? vdb.gridName : gridName) + "\"";
     medium.density.place(Mat4());
+    checkOpticalDepth(src, medium, Mat4(), field);
 }
 
-Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field) {
+Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field, std::vector<std::string>& files) {
     if (!m.IsObject()) src.fail(field, "expected an object");
     Medium medium;
     if (const tinygltf::Value* name = member(m, "name")) {
@@ -86,7 +108,7 @@ Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::strin
         if (std::abs(d) >= 1) src.fail(field + ".anisotropy", "anisotropy g = " + num(d) + " must satisfy |g| < 1");
         medium.g = float(d);
     }
-    if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium);
+    if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium, files);
     return medium;
 }
 
@@ -98,7 +120,7 @@ void parseMedia(const Source& src, const tinygltf::Value& brumeMedia, SceneDescr
     if (const tinygltf::Value* media = member(brumeMedia, "media")) {
         if (!media->IsArray()) src.fail(base + ".media", "expected an array");
         for (size_t i = 0; i < media->ArrayLen(); ++i)
-            desc.media.push_back(parseMedium(src, media->Get(int(i)), at(base + ".media", i)));
+            desc.media.push_back(parseMedium(src, media->Get(int(i)), at(base + ".media", i), desc.files));
     }
     desc.ambientMedium = -1;
     if (const tinygltf::Value* ambient = member(brumeMedia, "ambient")) {
@@ -121,6 +143,7 @@ void placeInteriorGrid(const Source& src, Medium& medium, int mediumIndex, const
     }
     medium.density.place(world);
     medium.density.placedByNode = true;
+    checkOpticalDepth(src, medium, world, field);
 }
 
 int interiorMedium(const Source& src, const tinygltf::Mesh& mesh, int meshIndex, int mediaCount) {

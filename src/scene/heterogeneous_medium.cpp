@@ -38,6 +38,7 @@
 // by a hash of the query's bits: deterministic whatever the thread count.
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "brume/sampling/sampler.h"
 #include "brume/scene/density_grid.h"
@@ -82,6 +83,15 @@ void standIns(const DensityGrid& grid, const LocalRay& lr, Spectrum k, double ta
 // log1pf here, at about half its cost (log1pf was a fifth of a heterogeneous render).
 float sampleExp(float rate, float u) { return -std::log(1.0f - u) / rate; }
 
+// t + s, but at least the next float after t: a tentative step shorter than t's float spacing
+// would not move t, and a walk through a piece with no real collision would never end. Only
+// where the majorant's optical depth over one float step of t exceeds ~1 (the loader bounds
+// it, gltf_media.cpp kMaxVoxelOpticalDepth) does this lengthen a step.
+float advance(float t, float s) {
+    const float next = t + s;
+    return next > t ? next : std::nextafter(t, std::numeric_limits<float>::infinity());
+}
+
 }  // namespace
 
 float Medium::densityAt(Vec3 p) const {
@@ -125,7 +135,7 @@ MediumSample Medium::trackDistance(const Ray& ray, float t0, float t1, float uDi
                     return true;
                 }
                 tau += double(mean) * s;
-                t += s;
+                t = advance(t, s);
                 const float rho = grid.lookup(lr.q0 + lr.dq * t);
                 const float P = grey ? rho / m : (w.x * k.x + w.y * k.y + w.z * k.z) * rho / mu;
                 const float uReal = rng.next1D();
@@ -167,13 +177,26 @@ MediumTransit Medium::ratioTrack(const Ray& ray, float t0, float t1, bool startI
         Spectrum T(1.0f);
         grid.forEachMajorant(lr.q0, lr.dq, t0, t1, [&](float ta, float tb, float m, float mean) {
             tau += double(mean) * (tb - ta);  // the whole piece, also once T is 0 (the stand-in needs it)
-            if (m <= 0 || (T.x == 0 && T.y == 0 && T.z == 0)) return true;
+            if (m <= 0 || isBlack(T)) return true;
             const float mu = kmax * m;
             for (float t = ta;;) {
-                t += sampleExp(mu, rng.next1D());
+                t = advance(t, sampleExp(mu, rng.next1D()));
                 if (!(t < tb)) return true;
+                ++tr.steps;
                 const float rho = grid.lookup(lr.q0 + lr.dq * t);
                 for (int c = 0; c < 3; ++c) T[c] *= 1 - k[c] * rho / mu;
+                // Russian roulette once every channel is below 1/16: kept with probability 1/2
+                // and doubled, else 0 (E[T] unchanged). In a dense medium each tentative
+                // collision then ends the estimate with probability about 1/2, so a ray's work
+                // stays bounded whatever the density (without it T shrinks to 0 only through
+                // the subnormals, after as many steps as the piece's optical depth).
+                if (maxComponent(T) < 1.0f / 16) {
+                    if (isBlack(T) || rng.next1D() < 0.5f) {
+                        T = Spectrum(0.0f);
+                        return true;  // (the pieces after still add to the stand-in's depth)
+                    }
+                    T *= 2.0f;
+                }
             }
         });
         tr.T = T;

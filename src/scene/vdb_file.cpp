@@ -53,6 +53,7 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
     if (!xf.isLinear()) fail(path, "grid \"" + name + "\" has a non-affine (" + xf.mapType() + ") transform");
 
     VdbDensity out;
+    out.gridName = name;
     const openvdb::Mat4d M = xf.baseMap()->getAffineMap()->getMat4();  // row vectors: w = [i j k 1]·M
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) out.indexToWorld(r, c) = M(c, r);

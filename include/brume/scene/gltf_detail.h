@@ -31,6 +31,13 @@ int checkIndex(const Source& src, int index, size_t count, const std::string& fi
 // yet (see decodeImage), so that their bounds can be checked first.
 tinygltf::Model readModel(const Source& src);
 
+// The paths of the files a model's buffers and images name by URI (not data: URIs), resolved
+// against the scene file's directory as tinygltf resolved them, appended to `files` unless
+// already there.
+void addReferencedFiles(const Source& src, const tinygltf::Model& model, std::vector<std::string>& files);
+// A path relative to the scene file's directory (absolute paths as they are).
+std::string besideScene(const Source& src, const std::string& relative);
+
 // --- JSON values of extensions and extras (gltf_file.cpp) ---------------------------------
 
 // object[key], or nullptr if object is not an object or has no such key.

@@ -48,6 +48,7 @@ struct MediumSample {
 struct MediumTransit {
     Spectrum T{1.0f};
     Channels fwd, rev;  // walk t0 → t1, walk t1 → t0
+    uint32_t steps = 0;  // grid media: the tentative collisions ratio tracking drew (its work)
 };
 
 struct DensityGrid;
@@ -61,6 +62,7 @@ struct GridPlacement {
     Mat4 worldToLocal;
     float scale = 1;  // the grid's values times scale are the density
     bool placedByNode = false;  // (loader bookkeeping: one node's transform places it)
+    std::string source;         // where the grid came from, for messages: <file>: grid "<name>"
     // Sets worldToLocal for the grid's index space placed by `node` (identity: world space).
     void place(const Mat4& node);
 };

@@ -30,6 +30,10 @@ struct SceneDescription {
     int ambientMedium = -1;           // fills space outside bounded media; -1 = vacuum
     std::vector<Light> lights;        // punctual lights only; emissive triangles are added by Scene
     RenderSettings render;            // from BRUME_render, if the file has it
+    // Every file the scene was read from, each once, as opened: the scene file first, then
+    // the buffers and images it names by URI and its density grids. A scene's identity
+    // (checkpoints, MPI ranks, bench references) is their contents.
+    std::vector<std::string> files;
 };
 
 }  // namespace brume

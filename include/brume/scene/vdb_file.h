@@ -10,6 +10,7 @@ namespace brume {
 struct VdbDensity {
     std::shared_ptr<const DensityGrid> grid;
     Mat4 indexToWorld;  // the grid's own (affine) transform: index space → its world
+    std::string gridName;  // the grid read (the first float grid when none was named)
 };
 
 // Loads float grid `gridName` (empty: the first float grid) of `path`. Throws SceneError

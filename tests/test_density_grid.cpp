@@ -40,6 +40,7 @@
 #include "brume/math/ray.h"
 #include "brume/sampling/sampler.h"
 #include "brume/scene/density_grid.h"
+#include "brume/scene/vdb_file.h"
 #include "brume/scene/medium.h"
 #include "support/test_support.h"
 
@@ -215,12 +216,40 @@ TEST_CASE("density grid: trilinear lookup reproduces linear fields and voxel val
 // ---------------------------------------------------------------------------------------
 // 2. Majorants
 
+// Sparse storage: tests/data/sparse_blocks.vdb holds two 8³ blocks 2000 voxels apart and one
+// active 128³ tile, in a box of 4224 × 128 × 128 voxels (71 million with the padding, 285 MB
+// stored dense). Only the bricks the data reaches are kept (a block reaches 2³ bricks, the tile
+// 17³), and every voxel reads back exactly, 0 between them.
+TEST_CASE("density grid: sparse storage keeps the bricks the data reaches, not the box", "[density]") {
+    const VdbDensity vdb = loadVdbDensity(std::string(BRUME_TEST_DATA) + "/sparse_blocks.vdb", "density");
+    const DensityGrid& g = *vdb.grid;
+    CHECK(g.activeVoxels == 2 * 512 + 128.0 * 128 * 128);
+    auto at = [&](int i, int j, int k) { return g.lookup(g.local(Vec3(float(i), float(j), float(k)))); };
+    for (int x0 : {0, 2000})
+        for (int k = 0; k < 8; ++k)
+            for (int j = 0; j < 8; ++j)
+                for (int i = 0; i < 8; ++i) CHECK(at(x0 + i, j, k) == Approx(0.5 + (i + j + k) / 100.0).epsilon(1e-6));
+    CHECK(at(4096, 0, 0) == 0.25f);
+    CHECK(at(4223, 127, 127) == 0.25f);
+    CHECK(at(4150, 64, 30) == 0.25f);
+    CHECK(at(1000, 4, 4) == 0.0f);
+    CHECK(at(8, 4, 4) == 0.0f);     // the first plane past a block
+    CHECK(at(3000, 64, 64) == 0.0f);
+    CHECK(at(4224, 64, 64) == 0.0f);  // past the tile
+    CHECK(g.lookup(g.local(Vec3(7.5f, 4, 4))) == Approx(0.5 * (0.5 + 15 / 100.0)).epsilon(1e-6));  // fading out
+    const size_t stored = g.voxels.size() / DensityGrid::kBrickVoxels;
+    INFO(stored << " bricks stored, " << g.memoryBytes() << " bytes");
+    CHECK(stored <= 2 * 8 + 17 * 17 * 17);
+    CHECK(g.memoryBytes() < size_t(20) << 20);
+}
+
 TEST_CASE("density grid: majorants bound the density and the walk covers the box", "[density]") {
     // Active 18 × 20 × 7 voxels (padded 20 × 22 × 9: 3 × 3 × 1 bricks, the last ones partial);
     // random values with 30% zeros, and all of brick x = 0 (local q.x ≤ 8, index i ≤ 2) zero.
     const int lo[3] = {-5, 3, 0}, hi[3] = {12, 22, 6};
-    Rng valueRng(21, 2);
-    auto grid = buildGrid(lo, hi, [&](int i, int, int) {
+    // (A function of the voxel: bricks share their faces, so a voxel may be asked twice.)
+    auto grid = buildGrid(lo, hi, [&](int i, int j, int k) {
+        Rng valueRng(21 + uint64_t((i + 64) * 4096 + (j + 64) * 64 + k), 2);
         const float u = valueRng.next1D(), v = valueRng.next1D();
         return (i <= 2 || u < 0.3f) ? 0.0f : v;
     });

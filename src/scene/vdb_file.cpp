@@ -1,5 +1,5 @@
-// OpenVDB → DensityGrid: the active voxels' bounding box copied into a dense, padded array
-// (inactive voxels and everything outside are 0), and the grid's affine index → world map.
+// OpenVDB → DensityGrid: the bricks the active voxels and tiles reach, copied into sparse
+// bricks (inactive voxels and everything outside are 0), and the grid's affine index → world map.
 #include "brume/scene/vdb_file.h"
 
 #include <cmath>
@@ -15,8 +15,9 @@ namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) { throw SceneError(path + ": " + problem); }
 
-// Dense storage is 4 bytes a voxel over the bounding box: refuse what would not fit.
-constexpr double kMaxDenseVoxels = 1u << 30;
+// The brick tables are dense over the box, 12 bytes a brick of 512 voxels: refuse boxes whose
+// tables would pass 3 GiB (2^28 bricks; Disney's cloud, 6.6e9 voxels, needs 150 MiB).
+constexpr double kMaxBoxVoxels = double(uint64_t(1) << 37);
 
 }  // namespace
 
@@ -64,23 +65,54 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
 
     auto dg = std::make_shared<DensityGrid>();
     const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
-    int lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+    int lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};  // (no active voxel: an all-zero grid)
     if (!box.empty()) {
         for (int a = 0; a < 3; ++a) {
             lo[a] = box.min()[a];
             hi[a] = box.max()[a];
         }
         const double voxels = double(hi[0] - lo[0] + 3) * (hi[1] - lo[1] + 3) * (hi[2] - lo[2] + 3);
-        if (voxels > kMaxDenseVoxels)
+        if (voxels > kMaxBoxVoxels)
             fail(path, "grid \"" + name + "\" spans " + std::to_string(int64_t(voxels)) +
-                           " voxels, more than the dense grid holds (2^30)");
-    } else {
-        lo[0] = lo[1] = lo[2] = 0;
-        hi[0] = hi[1] = hi[2] = -1;  // no active voxel: an all-zero 2³ grid
+                           " voxels, more than the brick tables cover (2^37)");
     }
+    dg->layout(lo, hi);
+
+    // The bricks the active values reach: a brick keeps local voxels [8c, 8c + 8] per axis, so
+    // an active index box [a, b] reaches bricks c with 8c ≤ b − origin and 8c + 8 ≥ a − origin.
+    // Leaves and active tiles are marked by their whole boxes; a marked brick all of whose
+    // voxels turn out 0 is not stored (storeBrick).
+    const int B = DensityGrid::kBrick;
+    std::vector<uint8_t> reached(dg->brick.size(), 0);
+    auto mark = [&](const openvdb::Coord& a, const openvdb::Coord& b) {
+        int c0[3], c1[3];
+        for (int ax = 0; ax < 3; ++ax) {
+            const int x0 = std::max(a[ax], lo[ax]) - dg->origin[ax], x1 = std::min(b[ax], hi[ax]) - dg->origin[ax];
+            if (x1 < x0) return;
+            c0[ax] = std::max(0, (x0 - 1) / B);  // (x0 ≥ 1: origin < lo)
+            c1[ax] = std::min(dg->bn[ax] - 1, x1 / B);
+        }
+        for (int z = c0[2]; z <= c1[2]; ++z)
+            for (int y = c0[1]; y <= c1[1]; ++y)
+                for (int x = c0[0]; x <= c1[0]; ++x) reached[(size_t(z) * dg->bn[1] + y) * dg->bn[0] + x] = 1;
+    };
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf)
+        if (!leaf->isEmpty()) mark(leaf->origin(), leaf->origin() + openvdb::Coord(B - 1));
+    {
+        openvdb::FloatTree::ValueOnCIter tile = grid->tree().cbeginValueOn();
+        tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles above the leaves only
+        for (; tile; ++tile) {
+            openvdb::CoordBBox tb;
+            tile.getBoundingBox(tb);
+            mark(tb.min(), tb.max());
+        }
+    }
+    size_t count = 0;
+    for (uint8_t r : reached) count += r;
+    dg->voxels.reserve(count * size_t(DensityGrid::kBrickVoxels));
     auto acc = grid->getConstAccessor();
     std::string bad;
-    dg->build(lo, hi, [&](int i, int j, int k) -> float {
+    auto value = [&](int i, int j, int k) -> float {
         const openvdb::Coord c(i, j, k);
         if (!acc.isValueOn(c)) return 0.0f;
         const float v = acc.getValue(c);
@@ -92,7 +124,11 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
             return 0.0f;
         }
         return v;
-    });
+    };
+    for (int z = 0; z < dg->bn[2]; ++z)
+        for (int y = 0; y < dg->bn[1]; ++y)
+            for (int x = 0; x < dg->bn[0]; ++x)
+                if (reached[(size_t(z) * dg->bn[1] + y) * dg->bn[0] + x]) dg->storeBrick(x, y, z, value);
     if (!bad.empty()) fail(path, bad);
     out.grid = std::move(dg);
     return out;

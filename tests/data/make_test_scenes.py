@@ -330,6 +330,24 @@ def write_grid(name, lo, hi, voxel, field):
     return out(name)
 
 
+def write_sparse_blocks(name):
+    """A sparse grid "density" (voxel 0.05): two 8³ blocks of value 0.5 + (i + j + k) / 100,
+    at index (0, 0, 0) and (2000, 0, 0), and an active tile of 0.25 filling the 128³ internal
+    node at (4096, 0, 0): a box of 4224 × 128 × 128 voxels (69 million) holding 1024 voxels
+    and one tile (the sparse storage's test, test_density_grid.cpp)."""
+    import numpy as np
+    import pyopenvdb as vdb
+    grid = vdb.FloatGrid()
+    grid.name = "density"
+    block = np.fromfunction(lambda i, j, k: 0.5 + (i + j + k) / 100.0, (8, 8, 8)).astype(np.float32)
+    grid.copyFromArray(block, ijk=(0, 0, 0), tolerance=0)
+    grid.copyFromArray(block, ijk=(2000, 0, 0), tolerance=0)
+    grid.fill((4096, 0, 0), (4223, 127, 127), 0.25, active=True)
+    grid.transform = vdb.createLinearTransform(voxelSize=0.05)
+    vdb.write(out(name), grids=[grid])
+    return out(name)
+
+
 def furnace_field(x, y, z):
     """Strongly varying, with empty regions: a product of sines (0 to 4 /m) cut to zero on
     one side of a slanted plane, plus a dense blob (8 /m) off the centre."""
@@ -441,6 +459,7 @@ def main():
         write_grid("gradient.vdb", (-11, -9, -25), (11, 9, -1), 0.25,
                    lambda x, y, z: GRADIENT[0] + GRADIENT[1] * y + 0.0 * x + 0.0 * z),
         single_gradient("single_gradient.gltf"),
+        write_sparse_blocks("sparse_blocks.vdb"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

@@ -5,14 +5,20 @@
 // regions in few steps. Each brick also keeps the mean of its voxels, from which the MIS
 // stand-in densities take their optical depth (docs/mis.md, "heterogeneous media").
 //
-// Storage: a dense array over the active voxels' bounding box, padded by one zero voxel on
-// every side, so a lookup needs one range test and no other branch. Local coordinates
-// q = index − (lo − 1) run over [0, n − 1] per axis; outside that the density is 0.
-// A brick b covers q ∈ [b·B, (b + 1)·B); the trilinear value there mixes voxels b·B … (b + 1)·B
-// only, so the brick's majorant is their maximum (B + 1 per axis, shared with the neighbours).
+// Storage: sparse bricks. The local box q = index − origin, q ∈ [0, n − 1] per axis, covers the
+// active voxels with one zero voxel of padding on every side (origin = lo − 1). A brick b
+// covers q ∈ [b·B, (b + 1)·B);
+// the trilinear value there mixes voxels b·B … (b + 1)·B only, so each stored brick keeps
+// those (B + 1)³ voxels (its own and the first plane of its neighbours: one table lookup per
+// query, no branch across bricks), and its majorant is their maximum. A brick none of whose
+// voxels is non-zero is not stored: memory grows with the active voxels (and their bricks'
+// surfaces), not with the size of the box. The brick table (4 bytes a brick) and the
+// majorants and means (8 bytes a brick) are dense over the box: for a 2048 × 1024 × 2048 box,
+// 100 MiB.
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 #include "brume/math/vec3.h"
@@ -21,62 +27,118 @@ namespace brume {
 
 struct DensityGrid {
     static constexpr int kBrick = 8;
-    int n[3] = {0, 0, 0};         // padded voxel counts
-    int lo[3] = {0, 0, 0};        // index of the first active voxel (padding voxel: lo − 1)
-    std::vector<float> values;    // x fastest
+    static constexpr int kApron = kBrick + 1;                   // voxels per axis a brick keeps
+    static constexpr int kBrickVoxels = kApron * kApron * kApron;
+    static constexpr uint32_t kEmptyBrick = ~0u;
+    int n[3] = {0, 0, 0};         // local box voxel counts (padding included)
+    int origin[3] = {0, 0, 0};    // the index of local voxel (0, 0, 0): the active box's lo − 1
     int bn[3] = {0, 0, 0};        // bricks per axis
+    std::vector<uint32_t> brick;  // per brick (x fastest): its slot in `voxels`, or kEmptyBrick
+    std::vector<float> voxels;    // kBrickVoxels values per stored brick, x fastest
     std::vector<float> majorant;  // per brick, x fastest
     std::vector<float> mean;      // per brick: the mean of the voxels it mixes
     double activeVoxels = 0;      // non-zero voxels of the source
     float maxValue = 0;
 
-    // Fills the padded array from a callback value(i, j, k) over the active box [lo, hi]
-    // (inclusive, index space) and builds the majorants. Values must be finite and ≥ 0.
+    // Building: layout() fixes the box for the active voxels [lo, hi] (index space,
+    // inclusive; hi < lo: none) with every brick empty (majorant 0); storeBrick() fills brick
+    // (bx, by, bz) from value(i, j, k) (index space; asked for voxels of [lo, hi] only, 0
+    // elsewhere) and keeps it unless all its voxels are 0. A value must be finite and ≥ 0, and
+    // value a function of the voxel: bricks share their faces, so a voxel may be asked twice.
+    // build() stores every brick (tests, small grids); a sparse source stores the bricks
+    // its active voxels touch (vdb_file.cpp).
+    void layout(const int lo[3], const int hi[3]);
     template <class F>
-    void build(const int lo_[3], const int hi_[3], F value);
-    void buildMajorants();
+    void storeBrick(int bx, int by, int bz, F value);
+    template <class F>
+    void build(const int lo[3], const int hi[3], F value);
+    // The brick holding index-space voxel (i, j, k) as its own (not as apron).
+    void brickOf(int i, int j, int k, int b[3]) const {
+        const int idx[3] = {i, j, k};
+        for (int a = 0; a < 3; ++a) b[a] = (idx[a] - origin[a]) / kBrick;
+    }
+    size_t memoryBytes() const {
+        return brick.size() * sizeof(uint32_t) + (voxels.size() + majorant.size() + mean.size()) * sizeof(float);
+    }
 
-    float at(int i, int j, int k) const { return values[(size_t(k) * n[1] + j) * n[0] + i]; }
+    // Voxel value at local integer coordinates (0 outside the box).
+    float at(int i, int j, int k) const {
+        if (i < 0 || j < 0 || k < 0 || i >= n[0] - 1 || j >= n[1] - 1 || k >= n[2] - 1) return 0.0f;
+        const uint32_t s = brick[(size_t(k / kBrick) * bn[1] + j / kBrick) * bn[0] + i / kBrick];
+        if (s == kEmptyBrick) return 0.0f;
+        return voxels[size_t(s) * kBrickVoxels + ((k % kBrick) * kApron + j % kBrick) * kApron + i % kBrick];
+    }
     // Density at local coordinates q (trilinear; 0 outside).
     float lookup(Vec3 q) const {
         if (!(q.x >= 0 && q.y >= 0 && q.z >= 0 && q.x < n[0] - 1 && q.y < n[1] - 1 && q.z < n[2] - 1)) return 0;
         const int i = int(q.x), j = int(q.y), k = int(q.z);
+        const uint32_t s = brick[(size_t(k / kBrick) * bn[1] + j / kBrick) * bn[0] + i / kBrick];
+        if (s == kEmptyBrick) return 0;
         const float fx = q.x - i, fy = q.y - j, fz = q.z - k;
-        const size_t sy = size_t(n[0]), sz = size_t(n[0]) * n[1];
-        const float* v = &values[k * sz + j * sy + i];
+        constexpr size_t sy = kApron, sz = kApron * kApron;
+        const float* v = &voxels[size_t(s) * kBrickVoxels + (k % kBrick) * sz + (j % kBrick) * sy + i % kBrick];
         const float c00 = v[0] + fx * (v[1] - v[0]), c10 = v[sy] + fx * (v[sy + 1] - v[sy]);
         const float c01 = v[sz] + fx * (v[sz + 1] - v[sz]), c11 = v[sz + sy] + fx * (v[sz + sy + 1] - v[sz + sy]);
         const float c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
         return std::max(0.0f, c0 + fz * (c1 - c0));
     }
     // Local coordinates of an index-space point.
-    Vec3 local(Vec3 index) const { return Vec3(index.x - (lo[0] - 1), index.y - (lo[1] - 1), index.z - (lo[2] - 1)); }
+    Vec3 local(Vec3 index) const { return Vec3(index.x - origin[0], index.y - origin[1], index.z - origin[2]); }
 
     // Walks the line q(t) = q0 + t·dq, t ∈ [t0, t1], through the bricks it crosses, calling
     // f(ta, tb, majorant, mean) for consecutive pieces (only inside the grid's box; the rest
     // has density 0); f returns false to stop.
     template <class F>
     void forEachMajorant(Vec3 q0, Vec3 dq, float t0, float t1, F f) const;
+
+private:
+    int lo_[3] = {0, 0, 0}, hi_[3] = {-1, -1, -1};  // the active box (index space)
 };
 
 template <class F>
-void DensityGrid::build(const int lo_[3], const int hi_[3], F value) {
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = lo_[a];
-        n[a] = hi_[a] - lo_[a] + 3;
-    }
-    values.assign(size_t(n[0]) * n[1] * n[2], 0.0f);
-    activeVoxels = 0;
-    maxValue = 0;
-    for (int k = 1; k < n[2] - 1; ++k)
-        for (int j = 1; j < n[1] - 1; ++j)
-            for (int i = 1; i < n[0] - 1; ++i) {
-                const float v = value(lo[0] + i - 1, lo[1] + j - 1, lo[2] + k - 1);
-                values[(size_t(k) * n[1] + j) * n[0] + i] = v;
-                if (v > 0) activeVoxels += 1;
-                maxValue = std::max(maxValue, v);
+void DensityGrid::storeBrick(int bx, int by, int bz, F value) {
+    const size_t b = (size_t(bz) * bn[1] + by) * bn[0] + bx;
+    if (brick[b] != kEmptyBrick) return;
+    const size_t slot = voxels.size() / kBrickVoxels;
+    voxels.resize(voxels.size() + kBrickVoxels, 0.0f);
+    float* v = &voxels[slot * kBrickVoxels];
+    const int b0[3] = {bx * kBrick, by * kBrick, bz * kBrick};
+    float m = 0;
+    double sum = 0, count = 0;
+    for (int dk = 0; dk < kApron; ++dk)
+        for (int dj = 0; dj < kApron; ++dj)
+            for (int di = 0; di < kApron; ++di) {
+                const int q[3] = {b0[0] + di, b0[1] + dj, b0[2] + dk};
+                const int idx[3] = {q[0] + origin[0], q[1] + origin[1], q[2] + origin[2]};
+                const bool inside = idx[0] >= lo_[0] && idx[0] <= hi_[0] && idx[1] >= lo_[1] && idx[1] <= hi_[1] &&
+                                    idx[2] >= lo_[2] && idx[2] <= hi_[2];
+                const float x = inside ? value(idx[0], idx[1], idx[2]) : 0.0f;
+                v[(dk * kApron + dj) * kApron + di] = x;
+                if (q[0] <= n[0] - 1 && q[1] <= n[1] - 1 && q[2] <= n[2] - 1) {  // (the mean over the box, as mixed)
+                    m = std::max(m, x);
+                    sum += x;
+                    count += 1;
+                }
+                if (di < kBrick && dj < kBrick && dk < kBrick && x > 0) {  // its own voxels: each counted once
+                    activeVoxels += 1;
+                    maxValue = std::max(maxValue, x);
+                }
             }
-    buildMajorants();
+    if (!(m > 0)) {  // all zero: not stored
+        voxels.resize(slot * kBrickVoxels);
+        return;
+    }
+    brick[b] = uint32_t(slot);
+    majorant[b] = m;
+    mean[b] = float(sum / count);
+}
+
+template <class F>
+void DensityGrid::build(const int lo[3], const int hi[3], F value) {
+    layout(lo, hi);
+    for (int bz = 0; bz < bn[2]; ++bz)
+        for (int by = 0; by < bn[1]; ++by)
+            for (int bx = 0; bx < bn[0]; ++bx) storeBrick(bx, by, bz, value);
 }
 
 template <class F>

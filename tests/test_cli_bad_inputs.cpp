@@ -91,14 +91,15 @@ const BadFile kBadFiles[] = {
     {"grid_vector.gltf", "vector.vdb: grid \"density\" holds vec3s values, not float"},
     {"grid_negative_voxel.gltf", "negative.vdb: grid \"density\" has a negative voxel value -1.000000 at (2, 1, 3)"},
     {"grid_nan_voxel.gltf", "nan.vdb: grid \"density\" has a NaN voxel value"},
+    {"grid_infinite_voxel.gltf", "infinite.vdb: grid \"density\" has an infinite voxel value inf at (1, 2, 3)"},
     {"grid_frustum.gltf", "frustum.vdb: grid \"density\" has a non-affine (NonlinearFrustumMap) transform"},
     {"grid_negative_scale.gltf", "density.scale: scale -2 must be finite and >= 0"},
     {"grid_too_dense.gltf", "smoke_ok.vdb: grid \"density\": optical depth 1374999.99 across one voxel"},
 };
 
 // The density grids the grid_*.gltf files point at (make_bad.py).
-const char* const kBadGridFiles[] = {"smoke_ok.vdb", "negative.vdb", "nan.vdb", "vector.vdb", "frustum.vdb",
-                                     "not_a_grid.vdb"};
+const char* const kBadGridFiles[] = {"smoke_ok.vdb", "negative.vdb", "nan.vdb", "infinite.vdb", "vector.vdb",
+                                     "frustum.vdb", "not_a_grid.vdb"};
 
 }  // namespace
 

@@ -27,6 +27,8 @@
 // brick's far face); on y = 0 it stays 0.05 below it.
 #include <catch2/catch.hpp>
 
+#include <openvdb/openvdb.h>
+
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -41,6 +43,7 @@
 #include "brume/sampling/sampler.h"
 #include "brume/scene/density_grid.h"
 #include "brume/scene/vdb_file.h"
+#include "support/scratch_files.h"
 #include "brume/scene/medium.h"
 #include "support/test_support.h"
 
@@ -241,6 +244,53 @@ TEST_CASE("density grid: sparse storage keeps the bricks the data reaches, not t
     INFO(stored << " bricks stored, " << g.memoryBytes() << " bytes");
     CHECK(stored <= 2 * 8 + 17 * 17 * 17);
     CHECK(g.memoryBytes() < size_t(20) << 20);
+}
+
+// Grids as artists' tools write them, written here with OpenVDB itself: a float grid saved
+// as half floats (saveFloatAsHalf), a double grid, a grid with no active voxel and one whose
+// active voxels are all 0. Each loads; its values read back (half: to half precision; double:
+// rounded to float); the empty ones are 0 everywhere.
+TEST_CASE("density grid: half-float, double, empty and all-zero grids load", "[density]") {
+    openvdb::initialize();
+    brume::test::TempDir dir;
+    auto v = [](int i, int j, int k) { return 0.5 + 0.01 * (i + 2 * j + 3 * k) + 1e-9; };
+    auto write = [&](openvdb::GridBase::Ptr grid, const std::string& file) {
+        grid->setName("density");
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(0.1));
+        openvdb::io::File(dir / file).write({grid});
+        return dir / file;
+    };
+    openvdb::FloatGrid::Ptr half = openvdb::FloatGrid::create(0.0f);
+    openvdb::DoubleGrid::Ptr dbl = openvdb::DoubleGrid::create(0.0);
+    openvdb::FloatGrid::Ptr zero = openvdb::FloatGrid::create(0.0f);
+    for (int k = 0; k < 10; ++k)
+        for (int j = 0; j < 10; ++j)
+            for (int i = 0; i < 10; ++i) {
+                half->tree().setValue(openvdb::Coord(i, j, k), float(v(i, j, k)));
+                dbl->tree().setValue(openvdb::Coord(i, j, k), v(i, j, k));
+                zero->tree().setValue(openvdb::Coord(i, j, k), 0.0f);
+            }
+    half->setSaveFloatAsHalf(true);
+    const VdbDensity h = loadVdbDensity(write(half, "half.vdb"), "density");
+    const VdbDensity d = loadVdbDensity(write(dbl, "double.vdb"), "");  // (the first grid: double is taken)
+    const VdbDensity e = loadVdbDensity(write(openvdb::FloatGrid::create(0.0f), "empty.vdb"), "density");
+    const VdbDensity z = loadVdbDensity(write(zero, "zero.vdb"), "density");
+    CHECK(h.grid->activeVoxels == 1000);
+    CHECK(d.grid->activeVoxels == 1000);
+    CHECK(d.gridName == "density");
+    for (int k = 0; k < 10; ++k)
+        for (int j = 0; j < 10; ++j)
+            for (int i = 0; i < 10; ++i) {
+                const Vec3 p = Vec3(float(i), float(j), float(k));
+                CHECK(h.grid->lookup(h.grid->local(p)) == Approx(v(i, j, k)).epsilon(1e-3));
+                CHECK(d.grid->lookup(d.grid->local(p)) == float(v(i, j, k)));
+            }
+    for (const VdbDensity* g : {&e, &z}) {
+        CHECK(g->grid->activeVoxels == 0);
+        CHECK(g->grid->maxValue == 0);
+        CHECK(g->grid->lookup(g->grid->local(Vec3(3, 4, 5))) == 0);
+        CHECK(g->grid->voxels.empty());
+    }
 }
 
 TEST_CASE("density grid: majorants bound the density and the walk covers the box", "[density]") {

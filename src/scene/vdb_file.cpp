@@ -19,52 +19,12 @@ namespace {
 // tables would pass 3 GiB (2^28 bricks; Disney's cloud, 6.6e9 voxels, needs 150 MiB).
 constexpr double kMaxBoxVoxels = double(uint64_t(1) << 37);
 
-}  // namespace
-
-VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) {
-    static std::once_flag once;
-    std::call_once(once, [] { openvdb::initialize(); });
-    openvdb::GridBase::Ptr base;
-    std::string name = gridName;
-    try {
-        openvdb::io::File file(path);
-        file.open(false);
-        if (name.empty()) {
-            // The first float grid, by reading each grid's metadata only.
-            openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
-            for (const openvdb::GridBase::Ptr& m : *metas)
-                if (m->valueType() == "float") {
-                    name = m->getName();
-                    break;
-                }
-            if (name.empty()) fail(path, "no float grid in the file");
-        } else if (!file.hasGrid(name)) {
-            fail(path, "no grid named \"" + name + "\"");
-        }
-        base = file.readGrid(name);
-        file.close();
-    } catch (const openvdb::Exception& e) {
-        fail(path, std::string("cannot read the OpenVDB file (") + e.what() + ")");
-    } catch (const std::ios_base::failure& e) {
-        fail(path, std::string("cannot read the OpenVDB file (") + e.what() + ")");
-    }
-    openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-    if (!grid) fail(path, "grid \"" + name + "\" holds " + base->valueType() + " values, not float");
-    const openvdb::math::Transform& xf = grid->transform();
-    if (!xf.isLinear()) fail(path, "grid \"" + name + "\" has a non-affine (" + xf.mapType() + ") transform");
-
-    VdbDensity out;
-    out.gridName = name;
-    const openvdb::Mat4d M = xf.baseMap()->getAffineMap()->getMat4();  // row vectors: w = [i j k 1]·M
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) out.indexToWorld(r, c) = M(c, r);
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c)
-            if (!std::isfinite(out.indexToWorld(r, c))) fail(path, "grid \"" + name + "\" has a non-finite transform");
-    if (std::abs(out.indexToWorld.det3()) < 1e-30) fail(path, "grid \"" + name + "\" has a singular transform");
-
+// The sparse bricks of a float or double grid (double values rounded to float). Throws
+// SceneError for a box beyond the brick tables and for a negative or non-finite value.
+template <class GridT>
+std::shared_ptr<DensityGrid> bricksOf(const GridT& grid, const std::string& path, const std::string& name) {
     auto dg = std::make_shared<DensityGrid>();
-    const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     int lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};  // (no active voxel: an all-zero grid)
     if (!box.empty()) {
         for (int a = 0; a < 3; ++a) {
@@ -96,10 +56,10 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
             for (int y = c0[1]; y <= c1[1]; ++y)
                 for (int x = c0[0]; x <= c1[0]; ++x) reached[(size_t(z) * dg->bn[1] + y) * dg->bn[0] + x] = 1;
     };
-    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf)
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
         if (!leaf->isEmpty()) mark(leaf->origin(), leaf->origin() + openvdb::Coord(B - 1));
     {
-        openvdb::FloatTree::ValueOnCIter tile = grid->tree().cbeginValueOn();
+        typename GridT::TreeType::ValueOnCIter tile = grid.tree().cbeginValueOn();
         tile.setMaxDepth(tile.getLeafDepth() - 1);  // tiles above the leaves only
         for (; tile; ++tile) {
             openvdb::CoordBBox tb;
@@ -110,12 +70,12 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
     size_t count = 0;
     for (uint8_t r : reached) count += r;
     dg->voxels.reserve(count * size_t(DensityGrid::kBrickVoxels));
-    auto acc = grid->getConstAccessor();
+    auto acc = grid.getConstAccessor();
     std::string bad;
     auto value = [&](int i, int j, int k) -> float {
         const openvdb::Coord c(i, j, k);
         if (!acc.isValueOn(c)) return 0.0f;
-        const float v = acc.getValue(c);
+        const float v = float(acc.getValue(c));  // (a double beyond float's range: infinite)
         if (!(v >= 0) || !std::isfinite(v)) {
             if (bad.empty())
                 bad = "grid \"" + name + "\" has " + (std::isnan(v) ? "a NaN" : std::isinf(v) ? "an infinite" : "a negative") +
@@ -130,7 +90,58 @@ VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) 
             for (int x = 0; x < dg->bn[0]; ++x)
                 if (reached[(size_t(z) * dg->bn[1] + y) * dg->bn[0] + x]) dg->storeBrick(x, y, z, value);
     if (!bad.empty()) fail(path, bad);
-    out.grid = std::move(dg);
+    return dg;
+}
+
+}  // namespace
+
+VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName) {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+    openvdb::GridBase::Ptr base;
+    std::string name = gridName;
+    try {
+        openvdb::io::File file(path);
+        file.open(false);
+        if (name.empty()) {
+            // The first float or double grid, by reading each grid's metadata only.
+            openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
+            for (const openvdb::GridBase::Ptr& m : *metas)
+                if (m->valueType() == "float" || m->valueType() == "double") {
+                    name = m->getName();
+                    break;
+                }
+            if (name.empty()) fail(path, "no float or double grid in the file");
+        } else if (!file.hasGrid(name)) {
+            fail(path, "no grid named \"" + name + "\"");
+        }
+        base = file.readGrid(name);
+        file.close();
+    } catch (const openvdb::Exception& e) {
+        fail(path, std::string("cannot read the OpenVDB file (") + e.what() + ")");
+    } catch (const std::ios_base::failure& e) {
+        fail(path, std::string("cannot read the OpenVDB file (") + e.what() + ")");
+    }
+    // Float grids (also those saved as half floats: OpenVDB reads them back as float) and double
+    // grids; vector and other grids are refused.
+    const std::string type = base->valueType();
+    if (type != "float" && type != "double")
+        fail(path, "grid \"" + name + "\" holds " + type + " values, not float or double");
+    const openvdb::math::Transform& xf = base->transform();
+    if (!xf.isLinear()) fail(path, "grid \"" + name + "\" has a non-affine (" + xf.mapType() + ") transform");
+
+    VdbDensity out;
+    out.gridName = name;
+    const openvdb::Mat4d M = xf.baseMap()->getAffineMap()->getMat4();  // row vectors: w = [i j k 1]·M
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) out.indexToWorld(r, c) = M(c, r);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            if (!std::isfinite(out.indexToWorld(r, c))) fail(path, "grid \"" + name + "\" has a non-finite transform");
+    if (std::abs(out.indexToWorld.det3()) < 1e-30) fail(path, "grid \"" + name + "\" has a singular transform");
+
+    out.grid = type == "float" ? bricksOf(*openvdb::gridPtrCast<openvdb::FloatGrid>(base), path, name)
+                               : bricksOf(*openvdb::gridPtrCast<openvdb::DoubleGrid>(base), path, name);
     return out;
 }
 

@@ -13,9 +13,11 @@ struct VdbDensity {
     std::string gridName;  // the grid read (the first float grid when none was named)
 };
 
-// Loads float grid `gridName` (empty: the first float grid) of `path`. Throws SceneError
-// "<path>: <problem>" for a missing or unreadable file, a missing grid, a grid that is not
-// float, a non-affine transform, or a negative or non-finite voxel value.
+// Loads grid `gridName` (empty: the first float or double grid) of `path`: a float grid (also
+// one saved as half floats) or a double grid (rounded to float), into sparse bricks. Throws
+// SceneError "<path>: <problem>" for a missing or unreadable file, a missing grid, a grid of
+// other values (vectors), a non-affine transform, a box beyond the brick tables, or a
+// negative or non-finite voxel value.
 VdbDensity loadVdbDensity(const std::string& path, const std::string& gridName);
 
 }  // namespace brume

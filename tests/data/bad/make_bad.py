@@ -180,11 +180,13 @@ def with_grid(name, uri, grid_name=None, scale=None):
 
 def bad_grids():
     """Density grids: a missing file, a file that is not OpenVDB, a missing grid name, a vec3
-    grid, negative and NaN voxels, a frustum (non-affine) transform, a negative scale, a
+    grid, negative, NaN and infinite voxels, a frustum (non-affine) transform, a negative scale, a
     scale that makes one voxel's optical depth 1.4e6 (beyond the limit of 1e4)."""
+    import numpy as np
     grid("smoke_ok.vdb", lambda i, j, k: 0.5 + 0.0 * i)
     grid("negative.vdb", lambda i, j, k: 0.5 - (i == 2) * (j == 1) * (k == 3) * 1.5)
     grid("nan.vdb", lambda i, j, k: 0.5 + 0.0 * i, nan_at=(1, 1, 1))
+    grid("infinite.vdb", lambda i, j, k: np.where((i == 1) & (j == 2) & (k == 3), np.inf, 0.5))
     grid("vector.vdb", None, vector=True)
     grid("frustum.vdb", lambda i, j, k: 0.5 + 0.0 * i, frustum=True)
     with open(os.path.join(HERE, "not_a_grid.vdb"), "w") as f:
@@ -195,6 +197,7 @@ def bad_grids():
     with_grid("grid_vector.gltf", "vector.vdb", grid_name="density")
     with_grid("grid_negative_voxel.gltf", "negative.vdb")
     with_grid("grid_nan_voxel.gltf", "nan.vdb")
+    with_grid("grid_infinite_voxel.gltf", "infinite.vdb")
     with_grid("grid_frustum.gltf", "frustum.vdb")
     with_grid("grid_negative_scale.gltf", "smoke_ok.vdb", scale=-2.0)
     with_grid("grid_too_dense.gltf", "smoke_ok.vdb", scale=1e8)

@@ -421,6 +421,36 @@ def medium_from_node(node, owner, report, depth=0):
     return dict(ZERO_MEDIUM), [node.name]
 
 
+def density_grid_of_node(node, depth=0):
+    """The grid a volume shader node reads as its density on a Volume object, as Cycles reads it:
+    a Principled Volume's 'Density Attribute' (by default "density"); for other volume nodes, the
+    attribute named by an Attribute node (or a Volume Info node's Density output) driving their
+    Density input; through Add and Mix shaders, the first one found. None if none reads a grid."""
+    if node is None or depth > 64:
+        return None
+    t = node.bl_idname
+    if t == "ShaderNodeVolumePrincipled":
+        sock = node.inputs.get("Density Attribute")
+        name = getattr(sock, "default_value", "") if sock is not None else ""
+        return name or "density"
+    if t in ("ShaderNodeVolumeScatter", "ShaderNodeVolumeAbsorption"):
+        src = _follow(node.inputs.get("Density"))
+        if src is None:
+            return None
+        if src.bl_idname == "ShaderNodeAttribute":
+            return getattr(src, "attribute_name", "") or None
+        if src.bl_idname == "ShaderNodeVolumeInfo":
+            return "density"
+        return None
+    if t in ("ShaderNodeAddShader", "ShaderNodeMixShader"):
+        first = 0 if t == "ShaderNodeAddShader" else 1
+        for sock in node.inputs[first:first + 2]:
+            name = density_grid_of_node(_follow(sock), depth + 1)
+            if name:
+                return name
+    return None
+
+
 def volume_of_tree(tree, output_idname, owner, report):
     """(medium or None, unsupported nodes) for a material's or world's Volume output."""
     if tree is None:
@@ -694,7 +724,15 @@ def export_scene(filepath, context=None, report=None):
             uri = os.path.relpath(path, outdir)
         except ValueError:
             uri = path
-        mi = add_medium(mat.name + "@" + obj.name, m, {"uri": uri, "grid": "density", "scale": 1.0})
+        # The grid the material reads (Principled Volume's Density Attribute, or an Attribute
+        # node): its name in the .vdb. A material that reads none gets "density" (warned).
+        out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
+        grid = density_grid_of_node(_follow(out.inputs.get("Volume")) if out is not None else None)
+        if grid is None:
+            grid = "density"
+            report.warn("volume object '%s': material '%s' reads no grid as its density: grid 'density' used"
+                        % (obj.name, mat.name))
+        mi = add_medium(mat.name + "@" + obj.name, m, {"uri": uri, "grid": grid, "scale": 1.0})
         bb = [tuple(v) for v in obj.bound_box]
         lo = [min(v[k] for v in bb) for k in range(3)]
         hi = [max(v[k] for v in bb) for k in range(3)]
@@ -708,8 +746,8 @@ def export_scene(filepath, context=None, report=None):
         mesh = add_buffer_mesh(gltf, obj.name, corners, [(0.0, 0.0, 1.0)] * 8, idx, None)
         gltf["meshes"][mesh]["extensions"] = {"BRUME_media": {"interior": mi}}
         add_root_node(gltf, {"name": obj.name, "mesh": mesh, "matrix": _world_matrix_gltf(obj)})
-        report.warn("volume object '%s': grid 'density' of %s, density scale per unit of the grid; other grids "
-                    "(color, temperature, flame) are not exported" % (obj.name, uri))
+        report.warn("volume object '%s': grid '%s' of %s, density scale per unit of the grid; other grids "
+                    "(color, temperature, flame) are not exported" % (obj.name, grid, uri))
     # A volume material on an object that is not a mesh or volume (curves, text...) is skipped by
     # glTF: say so.
     exported = {n.get("name") for n in nodes}

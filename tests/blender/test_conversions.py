@@ -216,6 +216,66 @@ class Volumes(unittest.TestCase):
         self.assertEqual(m["absorption"], [0.25, 0.25, 0.25])
 
 
+class _Sock:
+    """A stand-in for a Blender node socket: a default value and an optional link."""
+
+    def __init__(self, value=None, source=None):
+        self.default_value = value
+        self.is_linked = source is not None
+        self.links = [type("Link", (), {"from_node": source})()] if source is not None else []
+
+
+class _Node:
+    """A stand-in for a Blender shader node: its type, inputs by name (and by position) and
+    attributes."""
+
+    def __init__(self, idname, inputs=(), **attrs):
+        self.bl_idname = idname
+        self.name = idname
+        self._inputs = list(inputs)
+        self.__dict__.update(attrs)
+
+    @property
+    def inputs(self):
+        node = self
+
+        class Inputs(list):
+            def get(self, key):
+                return dict(node._inputs).get(key)
+
+        return Inputs(sock for _, sock in self._inputs)
+
+
+class VolumeGrids(unittest.TestCase):
+    """Which grid of a Volume object's .vdb its material reads as density (issue: the exporter
+    always wrote "density")."""
+
+    def test_principled_density_attribute(self):
+        node = _Node("ShaderNodeVolumePrincipled", [("Density", _Sock(1.0)), ("Density Attribute", _Sock("smoke"))])
+        self.assertEqual(bx.density_grid_of_node(node), "smoke")
+        node = _Node("ShaderNodeVolumePrincipled", [("Density", _Sock(1.0)), ("Density Attribute", _Sock(""))])
+        self.assertEqual(bx.density_grid_of_node(node), "density")
+
+    def test_attribute_node_into_scatter_density(self):
+        attr = _Node("ShaderNodeAttribute", attribute_name="heat_density")
+        node = _Node("ShaderNodeVolumeScatter", [("Color", _Sock((1, 1, 1, 1))), ("Density", _Sock(1.0, attr))])
+        self.assertEqual(bx.density_grid_of_node(node), "heat_density")
+        info = _Node("ShaderNodeVolumeInfo")
+        node = _Node("ShaderNodeVolumeAbsorption", [("Density", _Sock(1.0, info))])
+        self.assertEqual(bx.density_grid_of_node(node), "density")
+        self.assertIsNone(bx.density_grid_of_node(_Node("ShaderNodeVolumeScatter", [("Density", _Sock(1.0))])))
+
+    def test_through_add_and_mix(self):
+        attr = _Node("ShaderNodeAttribute", attribute_name="soot")
+        scatter = _Node("ShaderNodeVolumeScatter", [("Density", _Sock(1.0, attr))])
+        plain = _Node("ShaderNodeVolumeAbsorption", [("Density", _Sock(1.0))])
+        add = _Node("ShaderNodeAddShader", [("Shader", _Sock(None, plain)), ("Shader_001", _Sock(None, scatter))])
+        self.assertEqual(bx.density_grid_of_node(add), "soot")
+        mix = _Node("ShaderNodeMixShader", [("Fac", _Sock(0.5)), ("Shader", _Sock(None, scatter)),
+                                            ("Shader_001", _Sock(None, plain))])
+        self.assertEqual(bx.density_grid_of_node(mix), "soot")
+
+
 class Settings(unittest.TestCase):
     def test_max_depth(self):
         self.assertEqual(bx.brume_max_depth(0), 1)

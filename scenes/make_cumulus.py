@@ -19,13 +19,12 @@ import os
 import sys
 
 import numpy as np
-import pyopenvdb as vdb
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.dont_write_bytecode = True
 sys.path.insert(0, HERE)
 import gltfgen as g  # noqa: E402
-from make_ground_fog import value_noise  # noqa: E402
+from make_ground_fog import save_density, value_noise  # noqa: E402
 
 VOXEL = 1.0
 LO = (-70, 58, -45)   # voxel index bounds (inclusive), metres
@@ -70,12 +69,7 @@ def density_field():
 
 def write_grid(path):
     rho = density_field()
-    assert rho.min() >= 0 and np.isfinite(rho).all()
-    grid = vdb.FloatGrid()
-    grid.name = "density"
-    grid.copyFromArray(rho, ijk=LO, tolerance=0)
-    grid.transform = vdb.createLinearTransform(voxelSize=VOXEL)
-    vdb.write(path, grids=[grid])
+    grid = save_density(path, rho, LO, VOXEL)
     box = np.prod([h - l + 1 for l, h in zip(LO, HI)])
     print("  %s: %d active voxels of %d in the box (%.0f%%), max %.2f" % (
         os.path.basename(path), grid.activeVoxelCount(), box, 100.0 * grid.activeVoxelCount() / box, float(rho.max())))

@@ -67,14 +67,21 @@ def density_field():
     return rho.astype(np.float32)
 
 
-def write_grid(path):
-    rho = density_field()
+def save_density(path, rho, lo, voxel):
+    """Writes rho (indexed [x, y, z] from voxel index lo) as the float grid "density" of path,
+    zeros inactive, voxels of the given size; returns the grid."""
     assert rho.min() >= 0 and np.isfinite(rho).all()
     grid = vdb.FloatGrid()
     grid.name = "density"
-    grid.copyFromArray(rho, ijk=LO, tolerance=0)
-    grid.transform = vdb.createLinearTransform(voxelSize=VOXEL)
+    grid.copyFromArray(rho, ijk=lo, tolerance=0)
+    grid.transform = vdb.createLinearTransform(voxelSize=voxel)
     vdb.write(path, grids=[grid])
+    return grid
+
+
+def write_grid(path):
+    rho = density_field()
+    grid = save_density(path, rho, LO, VOXEL)
     print("  %s: %d active voxels, mean density %.3f, max %.3f" % (
         os.path.basename(path), grid.activeVoxelCount(), float(rho.mean()), float(rho.max())))
 

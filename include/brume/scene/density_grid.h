@@ -7,12 +7,11 @@
 //
 // Storage: sparse bricks. The local box q = index − origin, q ∈ [0, n − 1] per axis, covers the
 // active voxels with one zero voxel of padding on every side (origin = lo − 1). A brick b
-// covers q ∈ [b·B, (b + 1)·B);
-// the trilinear value there mixes voxels b·B … (b + 1)·B only, so each stored brick keeps
-// those (B + 1)³ voxels (its own and the first plane of its neighbours: one table lookup per
-// query, no branch across bricks), and its majorant is their maximum. A brick none of whose
-// voxels is non-zero is not stored: memory grows with the active voxels (and their bricks'
-// surfaces), not with the size of the box. The brick table (4 bytes a brick) and the
+// covers q ∈ [b·B, (b + 1)·B); the trilinear value there mixes voxels b·B … (b + 1)·B only,
+// so each stored brick keeps those (B + 1)³ voxels (its own and the first plane of its
+// neighbours: one table lookup per query, no branch across bricks), and its majorant is their
+// maximum. A brick none of whose voxels is non-zero is not stored: memory grows with the
+// active voxels (and their bricks' surfaces), not with the size of the box. The brick table (4 bytes a brick) and the
 // majorants and means (8 bytes a brick) are dense over the box: for a 2048 × 1024 × 2048 box,
 // 100 MiB.
 #pragma once
@@ -52,11 +51,6 @@ struct DensityGrid {
     void storeBrick(int bx, int by, int bz, F value);
     template <class F>
     void build(const int lo[3], const int hi[3], F value);
-    // The brick holding index-space voxel (i, j, k) as its own (not as apron).
-    void brickOf(int i, int j, int k, int b[3]) const {
-        const int idx[3] = {i, j, k};
-        for (int a = 0; a < 3; ++a) b[a] = (idx[a] - origin[a]) / kBrick;
-    }
     size_t memoryBytes() const {
         return brick.size() * sizeof(uint32_t) + (voxels.size() + majorant.size() + mean.size()) * sizeof(float);
     }

@@ -10,7 +10,7 @@ namespace brume {
 struct VdbDensity {
     std::shared_ptr<const DensityGrid> grid;
     Mat4 indexToWorld;  // the grid's own (affine) transform: index space → its world
-    std::string gridName;  // the grid read (the first float grid when none was named)
+    std::string gridName;  // the grid read (the first float or double grid when none was named)
 };
 
 // Loads grid `gridName` (empty: the first float or double grid) of `path`: a float grid (also

@@ -24,7 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.dont_write_bytecode = True
 sys.path.insert(0, HERE)
 import gltfgen as g  # noqa: E402
-from make_ground_fog import save_density, value_noise  # noqa: E402
+from make_ground_fog import fbm, save_density  # noqa: E402
 
 VOXEL = 1.0
 LO = (-70, 58, -45)   # voxel index bounds (inclusive), metres
@@ -54,13 +54,7 @@ def density_field():
     for (cx, cy, cz), r in puffs(rng):
         d = np.sqrt((x - cx) ** 2 + (y - cy) ** 2 + (z - cz) ** 2) / r
         inside = np.maximum(inside, 1.0 - d)  # > 0 inside a puff, 1 at its centre
-    noise = np.zeros(x.shape)
-    amp, total = 1.0, 0.0
-    for octave in range(3):
-        noise += amp * value_noise(x, y, z, 0.06 * 2 ** octave, rng)
-        total += amp
-        amp *= 0.5
-    noise /= total
+    noise = fbm(x, y, z, 3, 0.06, rng)
     rho = np.clip(inside * 4.0 - 0.35 * noise, 0.0, None)
     rho = np.minimum(rho, 1.0)
     rho[y < BASE] = 0.0  # a flat base

@@ -48,21 +48,26 @@ def value_noise(x, y, z, freq, rng):
     return out
 
 
+def fbm(x, y, z, octaves, freq, rng):
+    """Fractal value noise in [0, 1]: octaves of value_noise from frequency freq, each of twice
+    the frequency and half the weight of the one before."""
+    out = np.zeros(np.shape(x))
+    amp, total = 1.0, 0.0
+    for octave in range(octaves):
+        out += amp * value_noise(x, y, z, freq * 2 ** octave, rng)
+        total += amp
+        amp *= 0.5
+    return out / total
+
+
 def density_field():
     rng = np.random.default_rng(20261203)
     idx = np.indices(tuple(h - l + 1 for l, h in zip(LO, HI)))
     x, y, z = [(idx[a] + LO[a]) * VOXEL for a in range(3)]
-    fbm = np.zeros(x.shape)
-    amp, total = 1.0, 0.0
-    for octave in range(4):
-        freq = 0.25 * 2 ** octave
-        # stretched along x: banks of fog rolling across the yard
-        fbm += amp * value_noise(x * 0.7, y * 1.6, z, freq, rng)
-        total += amp
-        amp *= 0.5
-    fbm /= total
-    fbm = 0.05 + 1.75 * np.clip((fbm - 0.4) / 0.3, 0.0, 1.0)
-    rho = fbm * np.exp(-y / HEIGHT_SCALE)
+    # stretched along x: banks of fog rolling across the yard
+    noise = fbm(x * 0.7, y * 1.6, z, 4, 0.25, rng)
+    shaped = 0.05 + 1.75 * np.clip((noise - 0.4) / 0.3, 0.0, 1.0)
+    rho = shaped * np.exp(-y / HEIGHT_SCALE)
     rho[:, -1, :] = 0.0  # the top layer: the fog fades out inside the grid
     return rho.astype(np.float32)
 

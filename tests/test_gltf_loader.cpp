@@ -660,13 +660,19 @@ TEST_CASE("srgbToLinear is the exact sRGB curve", "[gltf]") {
     CHECK(gltf::srgbToLinear(0.5) == Approx(0.21404114).epsilon(1e-7));
 }
 
-TEST_CASE("external buffers and binary glTF", "[gltf]") {
-    TempDir dir;
+// A camera and one triangle whose buffer is the file triangle.bin, written into dir.
+Gltf triangleWithExternalBuffer(const TempDir& dir) {
     Gltf g = withCamera();
     g.addRoot("\"translation\":[0,0,-1],\"mesh\":" + str(addTriangle(g)));
     g.storage = Gltf::Storage::External;
     g.externalBuffer = "triangle.bin";
     dir.write("triangle.bin", std::string(g.bin.begin(), g.bin.end()));
+    return g;
+}
+
+TEST_CASE("external buffers and binary glTF", "[gltf]") {
+    TempDir dir;
+    Gltf g = triangleWithExternalBuffer(dir);
     SceneDescription external = loadGltf(dir.write(g));
     SceneDescription binary = loadGltf(dir.write("scene.glb", g.glb()));
 
@@ -683,11 +689,7 @@ TEST_CASE("external buffers and binary glTF", "[gltf]") {
 // (%-escapes decoded, as tinygltf opens them), each once; embedded ones are not files.
 TEST_CASE("a scene lists every file it reads, each once", "[gltf]") {
     TempDir dir;
-    Gltf g = withCamera();
-    g.addRoot("\"translation\":[0,0,-1],\"mesh\":" + str(addTriangle(g)));
-    g.storage = Gltf::Storage::External;
-    g.externalBuffer = "triangle.bin";
-    dir.write("triangle.bin", std::string(g.bin.begin(), g.bin.end()));
+    Gltf g = triangleWithExternalBuffer(dir);
     std::vector<unsigned char> png = unbase64(kPngRgb);
     dir.write("base colour.png", std::string(png.begin(), png.end()));
     g.addImage("\"uri\":\"base%20colour.png\"");

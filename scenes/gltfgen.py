@@ -293,10 +293,12 @@ class GltfBuilder:
 
     # -- media ---------------------------------------------------------------------------------
 
-    def add_medium(self, name, scattering, absorption, anisotropy=0.0, density=None):
+    def add_medium(self, name, scattering, absorption, anisotropy=0.0, density=None, emission=None):
         """A medium (coefficients in 1/m per RGB channel, HG g). Returns its index. density:
         None (homogeneous) or {"uri": "x.vdb", "grid": "density", "scale": 1.0}, a density
-        grid the coefficients are per unit of (docs/scene-format.md)."""
+        grid the coefficients are per unit of (docs/scene-format.md). emission: None, a grey
+        value or RGB triple (radiance per metre), or {"rgb": [...], "uri": ..., "grid": ...,
+        "scale": ...} for an emission grid."""
         def rgb(v):
             if isinstance(v, (int, float)):
                 return [float(v)] * 3
@@ -307,6 +309,10 @@ class GltfBuilder:
                   "anisotropy": float(anisotropy)}
         if density is not None:
             medium["density"] = dict(density)
+        if isinstance(emission, dict):
+            medium["emission"] = dict(emission)
+        elif emission is not None:
+            medium["emission"] = rgb(emission)
         self.media.append(medium)
         self.extensions_used.add("BRUME_media")
         return len(self.media) - 1

@@ -95,6 +95,11 @@ const BadFile kBadFiles[] = {
     {"grid_frustum.gltf", "frustum.vdb: grid \"density\" has a non-affine (NonlinearFrustumMap) transform"},
     {"grid_negative_scale.gltf", "density.scale: scale -2 must be finite and >= 0"},
     {"grid_too_dense.gltf", "smoke_ok.vdb: grid \"density\": optical depth 1374999.99 across one voxel"},
+    {"emission_negative.gltf", "media[0].emission: negative coefficient -0.5"},
+    {"emission_blackbody.gltf", "media[0].blackbody: blackbody emission is not supported"},
+    {"emission_missing_grid.gltf", "media[0].emission.uri: cannot open '"},
+    {"emission_ambient_clear.gltf", "media[0].emission: the ambient medium emits in a channel where it has no extinction"},
+    {"emission_ambient_grid.gltf", "media[0].emission: the ambient medium has a density grid and emission without a grid"},
 };
 
 // The density grids the grid_*.gltf files point at (make_bad.py).

@@ -7,7 +7,11 @@
 
 namespace brume::cli {
 
-SceneDescription loadSceneDescription(const std::string& path) { return loadGltf(path); }
+SceneDescription loadSceneDescription(const std::string& path) {
+    SceneDescription desc = loadGltf(path);
+    for (const std::string& w : desc.warnings) std::fprintf(stderr, "brume: warning: %s\n", w.c_str());
+    return desc;
+}
 
 Resolution imageResolution(const Camera& camera, Resolution requested) {
     if (requested.width > 0) return requested;

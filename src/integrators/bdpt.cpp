@@ -189,7 +189,9 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // could serve no strategy), and it is not traced at all when no emitter can be hit.
     const bool limited = options_.maxDepth >= 0;
     const int maxScatter = limited ? options_.maxDepth : kMaxSubpathVertices;
-    const int cameraVertices = limited ? maxScatter + (scene.hasHittableLights() ? 1 : 0) : maxScatter + 1;
+    // (An emissive medium counts as an emitter here: the rays gather it, PathVertex::edgeEmission.)
+    const bool hittable = scene.hasHittableLights() || scene.hasEmissiveMedia();
+    const int cameraVertices = limited ? maxScatter + (hittable ? 1 : 0) : maxScatter + 1;
     const int passFrom = limited ? maxScatter + 1 : 1 << 30;
     // At the last scattering event z(m) itself, a medium vertex serves only the light
     // connection (s = 1), whose equi-angular variant covers the medium wherever the light has
@@ -200,8 +202,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // tracing's share, allocation_planner.h.)
     const int passFirstAt = limited && maxScatter >= 1 && options_.connect != ConnectMode::Density &&
                                     options_.allocation.equiAngularLight && (!options_.efficiencyAware || planner_->learnedShare()) &&
-                                    !scene.hasInvisibleBoundaries() &&
-                                    !scene.hasDirectionalLights()
+                                    !scene.hasInvisibleBoundaries() && !scene.hasDirectionalLights() &&
+                                    !scene.hasEmissiveMedia()
                                 ? maxScatter
                                 : 1 << 30;
     // In coloured media both walks sample distances with one hero channel, drawn uniformly;
@@ -215,7 +217,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
                            uint32_t(std::min(std::max(int(fx), 0), width - 1));
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
-                                          camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f);
+                                          camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f,
+                                          options_.heuristic);
     const uint64_t rays1 = stats.rays;
     // The light subpaths of a pass splat all over the image: their numbers come from one
     // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
@@ -262,7 +265,8 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                             sampler, stats,   width, height, collect ? &records : nullptr,
                             learning ? direct_.get() : nullptr, &directCamera, &techniques};
 
-    Spectrum L(0.0f);
+    // What the camera walk's rays gathered from emissive media: paths no other strategy makes.
+    Spectrum L = options_.hooks.onlyS < 0 ? mediumEmission(c) : Spectrum(0.0f);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
     // likewise s = nLight + 1 for equi-angular camera connections on the light walk's.
     const bool anyEquiAngular = options_.connect != ConnectMode::Density;

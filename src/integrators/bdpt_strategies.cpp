@@ -232,6 +232,13 @@ void learnDirect(const StrategyContext& c, PathVertex* light, int s, int t, cons
 
 }  // namespace
 
+Spectrum mediumEmission(const StrategyContext& c) {
+    Spectrum L(0.0f);
+    for (int i = 1; i < c.nCamera; ++i) L += c.camera[i].edgeEmission;
+    if (c.nCamera < kMaxSubpathVertices && c.camera[c.nCamera].ghost) L += c.camera[c.nCamera].edgeEmission;
+    return isBlack(L) ? L : counted(c, StrategyKind::EmitterHit, false, L);
+}
+
 Spectrum emitterHit(const StrategyContext& c, int t) {
     const PathVertex& z = c.camera[t - 1];
     if (!variantWanted(c, 0, t <= c.nCamera && z.light >= 0 && z.isSurface())) return Spectrum(0.0f);

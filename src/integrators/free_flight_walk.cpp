@@ -2,15 +2,34 @@
 
 namespace brume {
 
+namespace {
+
+// FlightEmission's channel weight for a piece reached with pass densities `pass` so far.
+float channelWeight(const FlightEmission& e, const Channels& pass) {
+    if (e.channels == 1) return 1.0f;
+    const double hero = e.prefix[e.hero] * pass[e.hero];
+    if (!(hero > 0)) return 0.0f;
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += misPower(e.heuristic, e.prefix[c] * pass[c] / hero);
+    return float(double(e.channels) / sum);
+}
+
+}  // namespace
+
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
                     Spectrum channels, Spectrum tracking, const Sampler& sampler, uint32_t dims, PathStats& stats,
-                    bool passThrough) {
+                    bool passThrough, FlightEmission* emission) {
     Flight f;
     const Ray ray{seg.o, seg.d, seg.end};
     BoundaryWalk walk(scene, seg, media, stats);
     BoundaryPiece piece;
     while (walk.next(&piece)) {
         if (piece.index == 0) f.firstEnd = piece.t1;
+        if (emission && piece.medium && piece.medium->emissive()) {  // before the piece's flight
+            const float u = sampler.get1D(emission->dims + dim::kEmission, uint32_t(piece.index));
+            const Spectrum e = piece.medium->emitted(ray, piece.t0, piece.t1, u);
+            if (!isBlack(e)) emission->gathered += f.weight * e * channelWeight(*emission, f.fwd);
+        }
         if (piece.medium && passThrough) {
             // Passed for certain: weight T, forward density 1; the reverse walk's as usual.
             MediumTransit tr = piece.medium->transit(ray, piece.t0, piece.t1, startIsPoint && piece.index == 0, false);

@@ -385,11 +385,13 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     // instead of sampling a collision that would serve only the free-flight connection, and
     // reaches the surface behind.
     const bool limited = options_.maxDepth >= 0;
-    const bool passLast = limited && nee && mode != ConnectMode::Density && !scene.hasHittableLights() &&
+    // An emissive medium's pieces count however the walk ends, so neither shortcut applies.
+    const bool hittable = scene.hasHittableLights() || scene.hasEmissiveMedia();
+    const bool passLast = limited && nee && mode != ConnectMode::Density && !hittable &&
                           !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();
 
     for (int guard = 0; guard < 100000; ++guard) {
-        if (limited && depth >= maxDepth && !scene.hasHittableLights()) break;
+        if (limited && depth >= maxDepth && !hittable) break;
         const bool passing = passLast && depth + 1 == maxDepth;
         // The ray leaves vertex `depth`; its pieces between invisible boundaries are walked
         // one by one, each with the equi-angular strategy and free flight of its own.
@@ -407,6 +409,13 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
             MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
             tables.clear();
+            // What the piece emits back to its start (medium_emission.cpp), before its free
+            // flight: only a camera walk makes these paths, so no MIS weight. (Counted with
+            // the emitter hits in --stats.)
+            if (m->emissive())
+                L += counted(PathTracerTechnique::EmitterHit,
+                             beta * m->emitted(Ray{ray.o, ray.d}, piece.t0, piece.t1,
+                                               sampler.get1D(dim::mediumEmission(depth) + dim::kEmission, repeat)));
             // In a coloured medium the channel that drives the distance is drawn in proportion
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);

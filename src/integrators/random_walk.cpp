@@ -98,9 +98,16 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         v.edgeMedia = media;
         v.edgeMedium = scene.medium(media.current());
         v.ghost = true;
+        // A camera walk gathers emissive media's emission on every ray (weighted over the
+        // channels from prev's on: free_flight_walk.h).
+        FlightEmission emission{prev.channelRatio, start.hero, scene.mediumChannels(), start.heuristic,
+                                dim::mediumEmission(count - 1)};
+        const bool gathers = start.side == dim::Side::Camera && scene.hasEmissiveMedia();
         Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, throughputChannels(beta), sampler, dims, stats,
-                                count >= start.passFrom || (count == start.passFirstAt && !prev.delta));
+                                count >= start.passFrom || (count == start.passFirstAt && !prev.delta),
+                                gathers ? &emission : nullptr);
         v.edgeEnd = f.firstEnd;
+        v.edgeEmission = beta * emission.gathered;
         if (f.end == Flight::End::Escape) return count;
         beta *= f.weight;
         media = f.media;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 
 #include "brume/scene/gltf_detail.h"
@@ -55,12 +56,23 @@ void checkOpticalDepth(const Source& src, const Medium& medium, const Mat4& node
                             num(kMaxVoxelOpticalDepth) + "; lower the scale or the coefficients");
 }
 
-// "density": {"uri": "smoke.vdb", "grid": "density", "scale": 1}: the coefficients become per
-// unit density; the grid sits in world space until a mesh's node places it (placeInteriorGrid).
-// Both check the medium's density against the limit (checkOpticalDepth).
-void parseDensity(const Source& src, const tinygltf::Value& d, const std::string& field, Medium& medium,
-                  std::vector<std::string>& files) {
-    if (!d.IsObject()) src.fail(field, "expected an object {\"uri\": ..., \"grid\": ..., \"scale\": ...}");
+// A warning for every member of `object` that is not among `known` (a misspelt field would
+// otherwise be ignored without a word).
+void warnUnknown(const Source& src, const tinygltf::Value& object, std::initializer_list<const char*> known,
+                 const std::string& field, std::vector<std::string>& warnings) {
+    if (!object.IsObject()) return;
+    for (const std::string& key : object.Keys()) {
+        bool found = false;
+        for (const char* k : known) found |= key == k;
+        if (!found) warnings.push_back(src.path + ": " + field + ": unknown field \"" + key + "\" (ignored)");
+    }
+}
+
+// A grid reference {"uri": "smoke.vdb", "grid": "density", "scale": 1}, loaded (or shared with
+// `same`, a grid the medium already has from the same file and name) and sitting in world
+// space until a mesh's node places it (placeInteriorGrid).
+GridPlacement loadGrid(const Source& src, const tinygltf::Value& d, const std::string& field, const GridPlacement* same,
+                       std::vector<std::string>& files) {
     const tinygltf::Value* uri = member(d, "uri");
     if (!uri || !uri->IsString() || uri->Get<std::string>().empty())
         src.fail(field + ".uri", "expected the path of an OpenVDB file, relative to the scene file");
@@ -76,6 +88,13 @@ void parseDensity(const Source& src, const tinygltf::Value& d, const std::string
         if (!std::isfinite(scale) || scale < 0 || scale > 1e30) src.fail(field + ".scale", "scale " + num(scale) + " must be finite and >= 0");
     }
     const std::string path = besideScene(src, uri->Get<std::string>());
+    GridPlacement placement;
+    placement.requested = path + "\n" + gridName;
+    if (same && same->grid && same->requested == placement.requested) {
+        placement = *same;
+        placement.scale = float(scale);
+        return placement;
+    }
     VdbDensity vdb;
     if (!std::ifstream(path)) src.fail(field + ".uri", "cannot open '" + path + "': " + std::strerror(errno));
     try {
@@ -84,16 +103,44 @@ void parseDensity(const Source& src, const tinygltf::Value& d, const std::string
         src.fail(field + ".uri", e.what());  // "<vdb path>: <problem>", after the scene's path and field
     }
     if (std::find(files.begin(), files.end(), path) == files.end()) files.push_back(path);
-    medium.density.grid = vdb.grid;
-    medium.density.indexToWorld = vdb.indexToWorld;
-    medium.density.scale = float(scale);
-    medium.density.source = path + ": grid \"" + (gridName.empty() ? vdb.gridName : gridName) + "\"";
-    medium.density.place(Mat4());
+    placement.grid = vdb.grid;
+    placement.indexToWorld = vdb.indexToWorld;
+    placement.scale = float(scale);
+    placement.source = path + ": grid \"" + (gridName.empty() ? vdb.gridName : gridName) + "\"";
+    placement.place(Mat4());
+    return placement;
+}
+
+// "density": {"uri": ..., "grid": ..., "scale": ...}: the coefficients become per unit
+// density; checked against the limit (checkOpticalDepth).
+void parseDensity(const Source& src, const tinygltf::Value& d, const std::string& field, Medium& medium,
+                  std::vector<std::string>& files, std::vector<std::string>& warnings) {
+    if (!d.IsObject()) src.fail(field, "expected an object {\"uri\": ..., \"grid\": ..., \"scale\": ...}");
+    warnUnknown(src, d, {"uri", "grid", "scale"}, field, warnings);
+    medium.density = loadGrid(src, d, field, nullptr, files);
     checkOpticalDepth(src, medium, Mat4(), field);
 }
 
-Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field, std::vector<std::string>& files) {
+// "emission": [r, g, b] (or a number): radiance per metre, the same everywhere in the medium;
+// or {"rgb": [r, g, b], "uri": ..., "grid": ..., "scale": s}: rgb × s × the grid's value,
+// placed as the density grid is (it may be the density grid itself: then shared).
+void parseEmission(const Source& src, const tinygltf::Value& e, const std::string& field, Medium& medium,
+                   std::vector<std::string>& files, std::vector<std::string>& warnings) {
+    if (!e.IsObject()) {
+        medium.emission = coefficient(src, &e, field);
+        return;
+    }
+    warnUnknown(src, e, {"rgb", "uri", "grid", "scale"}, field, warnings);
+    const tinygltf::Value* rgb = member(e, "rgb");
+    medium.emission = rgb ? coefficient(src, rgb, field + ".rgb") : Spectrum(1.0f);
+    medium.emissionGrid = loadGrid(src, e, field, &medium.density, files);
+}
+
+Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field, std::vector<std::string>& files,
+                   std::vector<std::string>& warnings) {
     if (!m.IsObject()) src.fail(field, "expected an object");
+    warnUnknown(src, m, {"name", "scattering", "absorption", "anisotropy", "density", "emission", "blackbody"}, field,
+                warnings);
     Medium medium;
     if (const tinygltf::Value* name = member(m, "name")) {
         if (!name->IsString()) src.fail(field + ".name", "expected a string");
@@ -108,8 +155,28 @@ Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::strin
         if (std::abs(d) >= 1) src.fail(field + ".anisotropy", "anisotropy g = " + num(d) + " must satisfy |g| < 1");
         medium.g = float(d);
     }
-    if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium, files);
+    if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium, files, warnings);
+    if (const tinygltf::Value* e = member(m, "emission")) parseEmission(src, *e, field + ".emission", medium, files, warnings);
+    if (member(m, "blackbody"))
+        src.fail(field + ".blackbody", "blackbody emission is not supported by this version of brume; "
+                                       "give \"emission\" in RGB instead");
     return medium;
+}
+
+// The ambient medium fills all space, so a ray may cross it to infinity: its emission must
+// fade there. Refused: constant emission in a channel without extinction (the radiance would be
+// infinite), and constant emission in a grid medium (emitting out past the grid, where nothing
+// absorbs).
+void checkAmbientEmission(const Source& src, const Medium& medium, const std::string& field) {
+    if (!medium.emissive() || medium.emissionGrid.grid) return;
+    if (medium.heterogeneous())
+        src.fail(field + ".emission", "the ambient medium has a density grid and emission without a grid: it would "
+                                      "emit out to infinity; give the emission a grid, or put the medium inside a mesh");
+    const Spectrum st = medium.sigmaT();
+    for (int c = 0; c < 3; ++c)
+        if (medium.emission[c] > 0 && !(st[c] > 0))
+            src.fail(field + ".emission", "the ambient medium emits in a channel where it has no extinction: the "
+                                          "radiance would be infinite; give it absorption or scattering there");
 }
 
 }  // namespace
@@ -117,33 +184,39 @@ Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::strin
 void parseMedia(const Source& src, const tinygltf::Value& brumeMedia, SceneDescription& desc) {
     const std::string base = "extensions.BRUME_media";
     if (!brumeMedia.IsObject()) src.fail(base, "expected an object");
+    warnUnknown(src, brumeMedia, {"media", "ambient"}, base, desc.warnings);
     if (const tinygltf::Value* media = member(brumeMedia, "media")) {
         if (!media->IsArray()) src.fail(base + ".media", "expected an array");
         for (size_t i = 0; i < media->ArrayLen(); ++i)
-            desc.media.push_back(parseMedium(src, media->Get(int(i)), at(base + ".media", i), desc.files));
+            desc.media.push_back(parseMedium(src, media->Get(int(i)), at(base + ".media", i), desc.files, desc.warnings));
     }
     desc.ambientMedium = -1;
     if (const tinygltf::Value* ambient = member(brumeMedia, "ambient")) {
         const std::string field = base + ".ambient";
         desc.ambientMedium = checkIndex(src, integer(src, *ambient, field), desc.media.size(), field, "medium");
+        checkAmbientEmission(src, desc.media[size_t(desc.ambientMedium)], at(base + ".media", size_t(desc.ambientMedium)));
     }
 }
 
 void placeInteriorGrid(const Source& src, Medium& medium, int mediumIndex, const Mat4& world, const std::string& field) {
-    if (!medium.heterogeneous()) return;
-    if (medium.density.placedByNode) {
-        GridPlacement probe = medium.density;
+    if (!medium.heterogeneous() && !medium.emissionGrid.grid) return;
+    const GridPlacement& lead = medium.heterogeneous() ? medium.density : medium.emissionGrid;
+    if (lead.placedByNode) {
+        GridPlacement probe = lead;
         probe.place(world);
         for (int i = 0; i < 16; ++i)
-            if (std::abs(probe.worldToLocal.m[size_t(i)] - medium.density.worldToLocal.m[size_t(i)]) > 1e-9)
+            if (std::abs(probe.worldToLocal.m[size_t(i)] - lead.worldToLocal.m[size_t(i)]) > 1e-9)
                 src.fail(field, "medium " + std::to_string(mediumIndex) +
-                                    " has a density grid and bounds meshes of nodes with different transforms: "
+                                    " has a grid and bounds meshes of nodes with different transforms: "
                                     "give each its own medium");
         return;
     }
-    medium.density.place(world);
-    medium.density.placedByNode = true;
-    checkOpticalDepth(src, medium, world, field);
+    for (GridPlacement* g : {&medium.density, &medium.emissionGrid})
+        if (g->grid) {
+            g->place(world);
+            g->placedByNode = true;
+        }
+    if (medium.heterogeneous()) checkOpticalDepth(src, medium, world, field);
 }
 
 int interiorMedium(const Source& src, const tinygltf::Mesh& mesh, int meshIndex, int mediaCount) {

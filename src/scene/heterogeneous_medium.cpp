@@ -42,31 +42,18 @@
 
 #include "brume/sampling/sampler.h"
 #include "brume/scene/density_grid.h"
+#include "brume/scene/grid_tracking.h"
 #include "brume/scene/medium.h"
 
 namespace brume {
 
 namespace {
 
-uint64_t bitsOf(float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return b;
-}
-
-uint64_t hashQuery(const Ray& ray, float a, float b, float c) {
-    uint64_t h = mixBits(bitsOf(ray.o.x) ^ (bitsOf(ray.o.y) << 32));
-    h = mixBits(h ^ bitsOf(ray.o.z) ^ (bitsOf(ray.d.x) << 32));
-    h = mixBits(h ^ bitsOf(ray.d.y) ^ (bitsOf(ray.d.z) << 32));
-    return mixBits(h ^ bitsOf(a) ^ (bitsOf(b) << 32) ^ (bitsOf(c) << 16));
-}
-
-// The ray in the grid's local voxel coordinates: q(t) = q0 + t·dq, t the ray's own parameter.
-struct LocalRay {
-    Vec3 q0, dq;
-};
-
-LocalRay toLocal(const GridPlacement& g, const Ray& ray) { return {g.worldToLocal.point(ray.o), g.worldToLocal.vector(ray.d)}; }
+using grid::advance;
+using grid::hashQuery;
+using grid::LocalRay;
+using grid::sampleExp;
+using grid::toLocal;
 
 // The (grey) stand-in densities of a piece [t0, t1] whose brick-mean optical depth (grid units)
 // is tau: fwd, of a walk from t0 stopping at t1 (scattering there if t1 is a medium point, else
@@ -77,19 +64,6 @@ void standIns(const DensityGrid& grid, const LocalRay& lr, Spectrum k, double ta
     const double pass = std::exp(-kbar * tau);
     *fwd = Channels(endIsPoint ? kbar * grid.lookup(lr.q0 + lr.dq * t1) * pass : pass);
     *rev = Channels(startIsPoint ? kbar * grid.lookup(lr.q0 + lr.dq * t0) * pass : pass);
-}
-
-// u is a multiple of 2^-24 (toUnitFloat), so 1 − u is exact and logf is as accurate as
-// log1pf here, at about half its cost (log1pf was a fifth of a heterogeneous render).
-float sampleExp(float rate, float u) { return -std::log(1.0f - u) / rate; }
-
-// t + s, but at least the next float after t: a tentative step shorter than t's float spacing
-// would not move t, and a walk through a piece with no real collision would never end. Only
-// where the majorant's optical depth over one float step of t exceeds ~1 (the loader bounds
-// it, gltf_media.cpp kMaxVoxelOpticalDepth) does this lengthen a step.
-float advance(float t, float s) {
-    const float next = t + s;
-    return next > t ? next : std::nextafter(t, std::numeric_limits<float>::infinity());
 }
 
 }  // namespace

@@ -167,8 +167,10 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     for (const Mesh& mesh : desc_.meshes)
         if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible)
             hasInvisibleBoundaries_ = true;
-    for (const Medium& m : desc_.media)
+    for (const Medium& m : desc_.media) {
         if (!m.grey()) mediumChannels_ = 3;
+        hasEmissiveMedia_ |= m.emissive();
+    }
     cameraMedia_ = mediaAt(desc_.camera.position);
 
     // Where light subpaths start. Without bounded media every light sits in the ambient one.

@@ -59,14 +59,15 @@ def inward_sphere(radius):
 
 
 def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorption=0.0, anisotropy=0.5,
-            medium_name="fog", density=None, node_translation=None, node_rotation=None):
+            medium_name="fog", density=None, node_translation=None, node_rotation=None, emission=None):
     """wall_albedo and wall_emission: a grey value or an RGB triple. density: a density grid
-    for the medium (BRUME_media "density"); node_*: the wall node's transform."""
+    for the medium (BRUME_media "density"); emission: the medium's (BRUME_media "emission");
+    node_*: the wall node's transform."""
     rgb = lambda v: tuple(v) if isinstance(v, (tuple, list)) else (v,) * 3
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, 1.0)
     fog = b.add_medium(medium_name, scattering=scattering, absorption=absorption, anisotropy=anisotropy,
-                       density=density)
+                       density=density, emission=emission)
     wall = b.add_material("wall", base_color=rgb(wall_albedo), metallic=0.0, roughness=1.0,
                           emissive=rgb(wall_emission))
     pos, idx = inward_sphere(FURNACE_RADIUS)
@@ -366,6 +367,30 @@ def furnace_grid(name, scattering, node_translation=None, node_rotation=None, am
                    node_translation=node_translation, node_rotation=node_rotation)
 
 
+# Glowing furnaces (test_emission): walls of albedo 0.5 emitting 0.5, a medium that scatters,
+# absorbs and emits as much as it absorbs (emission = absorption): radiance exactly 1.
+def furnace_glowing(name, ambient=True, scattering=0.6, absorption=0.4, grid=False, node_translation=None,
+                    node_rotation=None):
+    rgb = lambda v: list(v) if isinstance(v, (tuple, list)) else [float(v)] * 3
+    density = {"uri": "furnace_grid.vdb", "grid": "density", "scale": 0.5} if grid else None
+    # With a grid: scattering, absorption and emission all in proportion to the one grid.
+    emission = dict(density, rgb=rgb(absorption)) if grid else absorption
+    return furnace(name, ambient, wall_albedo=0.5, wall_emission=0.5, scattering=scattering, absorption=absorption,
+                   anisotropy=0.4, medium_name="glow", density=density, emission=emission,
+                   node_translation=node_translation, node_rotation=node_rotation)
+
+
+# The emitting box (test_emission): black walls around an absorbing medium that emits e:
+# L = e/σa·(1 − exp(−σa·d)), d the distance to the wall. Emission 0.3, 0.5, 0.2 over
+# absorption 0.2, 0.6, 1.4 (a coloured medium).
+EMITTING = ((0.3, 0.5, 0.2), (0.2, 0.6, 1.4))
+
+
+def emitting_sphere(name):
+    return furnace(name, ambient=True, wall_albedo=0.0, wall_emission=0.0, scattering=0.0, absorption=EMITTING[1],
+                   anisotropy=0.0, medium_name="glow", emission=EMITTING[0])
+
+
 # The absorbing ramp (test_heterogeneous): density 0.6 + 0.25 x + 0.1 y inside the box
 # [-1.5, 1.5]^2 x [-3, -1], absorption 1 per unit density, in front of a backdrop of radiance 1.
 RAMP = (0.6, 0.25, 0.1)
@@ -460,6 +485,13 @@ def main():
                    lambda x, y, z: GRADIENT[0] + GRADIENT[1] * y + 0.0 * x + 0.0 * z),
         single_gradient("single_gradient.gltf"),
         write_sparse_blocks("sparse_blocks.vdb"),
+        # Emissive media (test_emission).
+        furnace_glowing("furnace_glowing.gltf"),
+        furnace_glowing("furnace_glowing_bounded.gltf", ambient=False),
+        furnace_glowing("furnace_glowing_chromatic.gltf", scattering=(0.3, 0.8, 1.6), absorption=(0.5, 0.3, 0.1)),
+        furnace_glowing("furnace_glowing_grid.gltf", ambient=False, grid=True, node_translation=(0.2, -0.1, 0.15),
+                        node_rotation=g.quat_axis_angle((0.0, 1.0, 0.0), 0.45)),
+        emitting_sphere("emitting_sphere.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

@@ -43,6 +43,10 @@ struct StrategyContext {
     TechniqueSample* techniques = nullptr;
 };
 
+// What the camera walk's rays gathered from emissive media (PathVertex::edgeEmission), the
+// ghost ray after its last vertex included: weight 1 over the strategies, since no other
+// strategy makes these paths (counted with the emitter hits in --stats).
+Spectrum mediumEmission(const StrategyContext& c);
 Spectrum emitterHit(const StrategyContext& c, int t);
 Spectrum lightConnection(const StrategyContext& c, int t);
 void cameraConnection(const StrategyContext& c, int s, SplatList& splats);

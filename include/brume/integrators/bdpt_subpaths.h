@@ -4,6 +4,7 @@
 // sample.
 #pragma once
 #include "brume/guiding/guiding_field.h"
+#include "brume/integrators/mis.h"
 #include "brume/integrators/path_vertex.h"
 
 namespace brume {
@@ -27,7 +28,8 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 // pixelValue: guided directions and survival (WalkStart).
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
                        int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
-                       const GuidingField* guide = nullptr, float pixelValue = -1.0f);
+                       const GuidingField* guide = nullptr, float pixelValue = -1.0f,
+                       MisHeuristic heuristic = MisHeuristic::Power);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing). cameraGuide: the camera walk's guide, for the reverse densities (WalkStart).

@@ -43,6 +43,9 @@ struct PathVertex {
     float edgeEnd = 0;
     Spectrum edgeBeta{0.0f};
     bool edgeCrossed = false;
+    // What the ray gathered from emissive media (camera walks, free_flight_walk.h), times the
+    // throughput at its start and its channel weight: the ray's whole share of the image.
+    Spectrum edgeEmission{0.0f};
     const Medium* edgeMedium = nullptr;  // the medium the ray starts in (null: vacuum)
     MediumStack edgeMedia;               // the media at the ray's start
     // The walk traced this ray but made no vertex on it (it escaped): only the edge fields

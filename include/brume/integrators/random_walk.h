@@ -4,6 +4,7 @@
 #include "brume/guiding/guiding_field.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/boundary_walk.h"
+#include "brume/integrators/mis.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/sample_dimensions.h"
 
@@ -32,6 +33,9 @@ struct WalkStart {
     // gives the densities with which the camera walk would retrace its edges (pdfRev).
     const GuidingField* guide = nullptr;
     float pixelValue = -1;
+    // The heuristic of the channel weights of what a camera walk's rays gather from emissive
+    // media (PathVertex::edgeEmission).
+    MisHeuristic heuristic = MisHeuristic::Power;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

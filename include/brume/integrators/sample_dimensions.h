@@ -16,6 +16,8 @@
 //     equi-angular strategy                        kEquiAngular, kLightPoint (2D)
 //   pt on the segment leaving camera vertex k:   solidAngleSegment(k) + kPick, kEquiAngular
 //     solid-angle distance strategy                (the distance), kLightPoint (2D)
+//   the ray leaving camera vertex k, both        mediumEmission(k) + kEmission (per piece:
+//     tracers: emissive media's estimate           the seed of Medium::emitted)
 //
 // A decision repeated a variable number of times on one place (free flight through several
 // invisible-boundary pieces, pt's equi-angular strategy per piece) reads its dimension with
@@ -52,5 +54,7 @@ constexpr uint32_t connection(int s, int t) {
 }
 constexpr uint32_t equiAngularSegment(int k) { return 0x1000000u + uint32_t(k) * kBlock; }
 constexpr uint32_t solidAngleSegment(int k) { return 0x1800000u + uint32_t(k) * kBlock; }
+constexpr uint32_t kEmission = 0;
+constexpr uint32_t mediumEmission(int k) { return 0x2000000u + uint32_t(k) * kBlock; }
 
 }  // namespace brume::dim

@@ -21,6 +21,12 @@
 // channel so that the caller can form any mixture it needs. In a grid medium the weights only
 // choose real or null collisions (both tracers pass the throughput's), and the densities are
 // grey stand-ins (heterogeneous_medium.cpp).
+//
+// Emission (docs/scene-format.md, "emission"): a medium may add radiance along a ray,
+// dL/ds += e(x), e = emission × (grid value × scale, or 1 without an emission grid), whatever
+// its albedo. `emitted` estimates what a piece sends back to its start, ∫ T(t0, t)·e(t) dt
+// (scene/medium_emission.cpp): the integrators add it, times the throughput, on every piece a
+// camera walk crosses.
 #pragma once
 #include <memory>
 #include <string>
@@ -63,6 +69,7 @@ struct GridPlacement {
     float scale = 1;  // the grid's values times scale are the density
     bool placedByNode = false;  // (loader bookkeeping: one node's transform places it)
     std::string source;         // where the grid came from, for messages: <file>: grid "<name>"
+    std::string requested;      // (loader bookkeeping: the file and grid name asked for)
     // Sets worldToLocal for the grid's index space placed by `node` (identity: world space).
     void place(const Mat4& node);
 };
@@ -73,7 +80,10 @@ struct Medium {
     Spectrum sigmaA;  // absorption (likewise)
     float g = 0;      // HG anisotropy, (−1, 1)
     GridPlacement density;  // no grid: homogeneous
+    Spectrum emission{0.0f};    // radiance per metre (× the emission grid where there is one)
+    GridPlacement emissionGrid; // no grid: the same everywhere in the medium
     bool heterogeneous() const { return density.grid != nullptr; }
+    bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     Spectrum sigmaT() const { return sigmaS + sigmaA; }
     // One extinction for all channels: distance sampling needs no channel choice.
     bool grey() const {
@@ -92,6 +102,14 @@ struct Medium {
     Spectrum sigmaSAt(Vec3 p) const { return heterogeneous() ? sigmaS * densityAt(p) : sigmaS; }
     // The density (grid value × scale) at a world point: 1 in homogeneous media.
     float densityAt(Vec3 p) const;
+    // The emission coefficient e at a world point (0 in a medium that does not emit).
+    Spectrum emissionAt(Vec3 p) const;
+    // An unbiased estimate of ∫_{t0}^{t1} T(t0, t)·e(t) dt along the ray (0 if the medium does
+    // not emit): in closed form in a homogeneous medium with constant emission, else from the
+    // points and transmittances medium_emission.cpp describes, with random numbers from a
+    // hash of the query and u (the sampler's number for it: rays along the same line, as a
+    // pixel centre's, still get independent estimates).
+    Spectrum emitted(const Ray& ray, float t0, float t1, float u) const;
 
 private:
     MediumSample trackDistance(const Ray& ray, float t0, float t1, float uDistance, Spectrum channels,

@@ -67,6 +67,9 @@ public:
     int mediumChannels() const { return mediumChannels_; }
     // True if a path can hit an emitter: some light is an emissive triangle or a sphere.
     bool hasHittableLights() const { return hasHittableLights_; }
+    // True if some medium emits (Medium::emission): camera walks gather it on every piece
+    // they cross, so they cannot stop or pass a piece early where such a medium may be.
+    bool hasEmissiveMedia() const { return hasEmissiveMedia_; }
     bool hasDirectionalLights() const { return hasDirectionalLights_; }
     // True if some light is an emissive triangle.
     bool hasTriangleLights() const { return hasTriangleLights_; }
@@ -109,6 +112,7 @@ private:
     bool hasInvisibleBoundaries_ = false;
     int mediumChannels_ = 1;
     bool hasHittableLights_ = false;
+    bool hasEmissiveMedia_ = false;
     bool hasDirectionalLights_ = false;
     bool hasTriangleLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;

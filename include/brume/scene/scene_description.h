@@ -34,6 +34,9 @@ struct SceneDescription {
     // the buffers and images it names by URI and its density grids. A scene's identity
     // (checkpoints, MPI ranks, bench references) is their contents.
     std::vector<std::string> files;
+    // What the loader noticed and went on past, one line each ("<path>: <field>: ..."):
+    // unknown fields of the brume extensions. The command prints them.
+    std::vector<std::string> warnings;
 };
 
 }  // namespace brume

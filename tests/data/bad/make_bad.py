@@ -203,6 +203,31 @@ def bad_grids():
     with_grid("grid_too_dense.gltf", "smoke_ok.vdb", scale=1e8)
 
 
+def with_fog(name, **fields):
+    """The base scene with fields set in its fog medium (a value None removes the field)."""
+    doc = base().document()
+    fog = doc["extensions"]["BRUME_media"]["media"][0]
+    for key, value in fields.items():
+        if value is None:
+            fog.pop(key, None)
+        else:
+            fog[key] = value
+    write_json(name, doc)
+
+
+def bad_emission():
+    """Emissive media: a negative emission, a blackbody (not supported yet), a missing emission
+    grid file; an ambient fog that would emit out to infinity: with no extinction in a channel
+    it emits in, or with a density grid and emission without one."""
+    with_fog("emission_negative.gltf", emission=[0.2, -0.5, 0.2])
+    with_fog("emission_blackbody.gltf", blackbody={"uri": "smoke_ok.vdb", "grid": "density", "scale": 1.0,
+                                                    "intensity": 1.0})
+    with_fog("emission_missing_grid.gltf", emission={"rgb": [1.0, 0.5, 0.1], "uri": "no_such_fire.vdb"})
+    with_fog("emission_ambient_clear.gltf", emission=[0.1, 0.1, 0.1], scattering=[0.1, 0.0, 0.1],
+             absorption=[0.0, 0.0, 0.0])
+    with_fog("emission_ambient_grid.gltf", emission=[0.1, 0.1, 0.1], density={"uri": "smoke_ok.vdb"})
+
+
 def main():
     valid_base()
     truncated_glb()
@@ -216,6 +241,7 @@ def main():
     medium_out_of_range()
     cyclic_nodes()
     bad_grids()
+    bad_emission()
 
 
 if __name__ == "__main__":

@@ -99,6 +99,7 @@ struct RenderArgs {
     ConnectMode connect = ConnectMode::Mis;
     bool guiding = false;    // --guiding on (pt)
     int guidedDistances = -1;  // --guided-distances: the deepest vertex whose rays are guided (−1: off)
+    bool volumeLights = true;  // --volume-lights
     EmitterSampling emitters = EmitterSampling::SolidAngle;
     MisHeuristic heuristic = MisHeuristic::Power;
     std::string strategyDir;
@@ -220,6 +221,14 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   else if (v == "all") a.guidedDistances = 1 << 30;
                   else throw UsageError("--guided-distances: expected off, camera or all, got '" + v + "'");
               });
+    addOption(app, "--volume-lights", "on|off",
+              "the path tracer (also inside auto and bdpt) samples points of glowing media with emission grids "
+              "as lights, MIS-combined with the emission its rays gather (docs/mis.md); on by default",
+              [&](const std::string& v) {
+                  if (v == "on") a.volumeLights = true;
+                  else if (v == "off") a.volumeLights = false;
+                  else throw UsageError("--volume-lights: expected on or off, got '" + v + "'");
+              });
     addOption(app, "--checkpoint", "FILE",
               "save the render's state to FILE every --checkpoint-every seconds and when interrupted "
               "(written beside FILE and renamed into place; removed once the image is complete); needs --spp",
@@ -232,7 +241,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--resume", "FILE",
               "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
               "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis, "
-              "--no-nee, --guiding and --guided-distances must be as before (use the same FILE for --checkpoint to keep saving)",
+              "--no-nee, --guiding, --guided-distances and --volume-lights must be as before (use the same FILE for --checkpoint to keep saving)",
               [&](const std::string& v) { a.resume = nonEmptyFile("--resume", v); });
     // For tests: as if SIGTERM came after N passes. No description: not in the help.
     addOption(app, "--stop-after-passes", "N", "",
@@ -360,6 +369,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const
             {"--max-depth", std::to_string(a.maxDepth)},
             {"--guiding", a.guiding ? "on" : "off"},
             {"--guided-distances", a.guidedDistances < 0 ? "off" : (a.guidedDistances == 0 ? "camera" : "all")},
+            {"--volume-lights", a.volumeLights ? "on" : "off"},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
     settings.insert(settings.end(), options.begin(), options.end());
@@ -445,6 +455,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.nextEventEstimation = a.nee;
     method.guiding = a.guiding;
     method.guidedDistanceDepth = a.guidedDistances;
+    method.volumeLights = a.volumeLights;
     method.heuristic = a.heuristic;
     if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
     return method;

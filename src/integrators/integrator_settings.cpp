@@ -17,6 +17,7 @@ PathTracerOptions pathTracerOptions(const IntegratorSettings& s) {
     o.connect = s.connect;
     o.guiding = s.guiding;
     o.guidedDistanceDepth = s.guidedDistanceDepth;
+    o.volumeLights = s.volumeLights;
     return o;
 }
 
@@ -30,6 +31,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.allocation = s.allocation;
     o.efficiencyAware = s.kind == IntegratorKind::EfficiencyAware && !variantOnly(s.connect);
     o.guiding = s.guiding;
+    o.volumeLights = s.volumeLights;
     return o;
 }
 

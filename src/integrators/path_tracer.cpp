@@ -13,6 +13,7 @@
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/solid_angle_segment.h"
 #include "brume/integrators/visibility.h"
+#include "brume/integrators/volume_light_sampling.h"
 #include "brume/sampling/free_flight.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/bsdf.h"
@@ -220,6 +221,19 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     return f * ls.Le * T * (w / (pick * ls.pdf));
 }
 
+// Next-event estimation towards emissive media (volume_light_sampling.h) from vertex `depth`
+// (ng: its surface's geometric normal, or 0 in a medium): f·e·T / (|x − y|²·p_n(y)), weighted
+// against the gathering along the walk's next ray (its direction density: the guided mixture
+// where the walk is guided).
+Spectrum volumeDirect(const Scene& scene, const Vertex& v, Vec3 ng, const MediumStack& media, const Sampler& sampler,
+                      int depth, PathStats& stats) {
+    VolumeLightConnection c;
+    if (!connectVolumeLight(scene, v.p, ng, media, sampler, dim::volumeLight(depth), stats, &c)) return Spectrum(0.0f);
+    float pdir;
+    const Spectrum f = v.eval(c.wi, &pdir, true);
+    return f * c.Le * volumeLightWeight(true, c.pdf, pdir, c.brickLength, c.dist);
+}
+
 // The in-scattered estimate at x(t) on seg from a light sample, weighted w / p_self:
 // T(0, t)·σs(x)·phase·Le·T(x, y). `tr` is the transit over [0, t].
 Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumTransit& tr, Vec3 x, const LightSample& ls,
@@ -387,6 +401,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const bool limited = options_.maxDepth >= 0;
     // An emissive medium's pieces count however the walk ends, so neither shortcut applies.
     const bool hittable = scene.hasHittableLights() || scene.hasEmissiveMedia();
+    // Next-event estimation towards emissive media with grids (volume_light_sampling.h): from
+    // every vertex that is not specular; the rays leaving such vertices then leave those
+    // media's emission to it (below).
+    const bool volumeNee = nee && options_.volumeLights && !scene.volumeLights().empty();
     const bool passLast = limited && nee && mode != ConnectMode::Density && !hittable &&
                           !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();
 
@@ -410,12 +428,21 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
             tables.clear();
             // What the piece emits back to its start (medium_emission.cpp), before its free
-            // flight: only a camera walk makes these paths, so no MIS weight. (Counted with
-            // the emitter hits in --stats.)
-            if (m->emissive())
+            // flight (counted with the emitter hits in --stats). After a vertex that sampled
+            // the volume lights, each point of a medium they sample is weighted against that
+            // (volume_light_sampling.h); elsewhere only a camera walk makes these paths.
+            if (m->emissive()) {
+                const int mi = scene.mediumIndex(m);
+                const float pdir = prevPdf;
+                const Medium::PointWeight weight = [&scene, mi, pdir](float t, size_t brick, float length) {
+                    return volumeLightWeight(false, scene.volumeLights().pdf(mi, brick), pdir, length, t);
+                };
+                const bool weighted = volumeNee && !specularBounce && scene.volumeLights().samples(mi);
                 L += counted(PathTracerTechnique::EmitterHit,
                              beta * m->emitted(Ray{ray.o, ray.d}, piece.t0, piece.t1,
-                                               sampler.get1D(dim::mediumEmission(depth) + dim::kEmission, repeat)));
+                                               sampler.get1D(dim::mediumEmission(depth) + dim::kEmission, repeat),
+                                               weighted ? &weight : nullptr));
+            }
             // In a coloured medium the channel that drives the distance is drawn in proportion
             // to the throughput (medium.h): no channel's weight can then grow along the path.
             const Spectrum channels = m->grey() ? Spectrum(1.0f / 3.0f) : throughputChannels(beta);
@@ -485,6 +512,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 direct = sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
                 L += counted(PathTracerTechnique::AtVertex, beta * direct);
             }
+            if (volumeNee) L += counted(PathTracerTechnique::AtVertex, beta * volumeDirect(scene, v, Vec3(0.0f), media, sampler, depth, stats));
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
             Vec3 wi;
             if (guided.share > 0) {  // weight phase / p, p the mixture (guided_phase.h)
@@ -554,6 +582,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 L += counted(PathTracerTechnique::AtVertex,
                              beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
             }
+            if (volumeNee && !bsdf.isSpecular())
+                L += counted(PathTracerTechnique::AtVertex, beta * volumeDirect(scene, v, hit.ng, media, sampler, depth, stats));
 
             BsdfSample bs;
             if (share > 0) {  // u.u picks the technique, rescaled (guided_phase.h: sample)

@@ -7,10 +7,12 @@
 //
 // Homogeneous with constant emission, in closed form per channel:
 //     E = e·(1 − exp(−σt·ℓ))/σt   (e·ℓ where σt = 0),   ℓ = t1 − t0.
-// Otherwise a sum over points, one uniform point t_i in each piece [a_i, b_i) of where the
-// medium may emit (the bricks of the emission grid that the ray crosses with a non-zero
-// majorant; with constant emission in a grid medium, the bricks of the density grid and the
-// stretches outside its box):
+// Otherwise a sum over points, one uniform point t_i in each interval [a_i, b_i) of where the
+// medium may emit: with an emission grid, the whole interval of the ray inside each brick it
+// crosses with a non-zero majorant (not clipped to the piece: a point outside the piece counts
+// 0, the rest of the brick is the next piece's, so the point's density is a function of the
+// ray and the brick alone, as next-event estimation needs); with constant emission in a grid
+// medium, the pieces of the density grid's bricks and the stretches outside its box:
 //     E ≈ Σ_i (b_i − a_i)·e(t_i)·T̂(t0, t_i),
 // unbiased for any T̂ with E[T̂] = T that does not depend on the points, and stratified along
 // the ray (Simon et al. 2017 integrate emission along the line; one point per brick is its
@@ -34,16 +36,25 @@ struct EmissionPoint {
     Spectrum w;  // (b − a)·e(t)
 };
 
-// One uniform point in each brick of the emission grid with a non-zero majorant.
-void gridPoints(const Medium& m, const Ray& ray, float t0, float t1, Rng& rng, std::vector<EmissionPoint>& points) {
+// One uniform point in the ray's interval in each brick of the emission grid with a non-zero
+// majorant, counted where it falls in this piece [ta, tb), times `weight` if given.
+void gridPoints(const Medium& m, const Ray& ray, float t0, float t1, Rng& rng, const Medium::PointWeight* weight,
+                std::vector<EmissionPoint>& points) {
     const GridPlacement& g = m.emissionGrid;
+    const DensityGrid& grid = *g.grid;
     const grid::LocalRay lr = grid::toLocal(g, ray);
     const Spectrum e = m.emission * g.scale;
-    g.grid->forEachMajorant(lr.q0, lr.dq, t0, t1, [&](float ta, float tb, float majorant, float) {
+    grid.forEachMajorant(lr.q0, lr.dq, t0, t1, [&](float ta, float tb, float majorant, float) {
         if (majorant <= 0 || !(tb > ta)) return true;
-        const float t = ta + rng.next1D() * (tb - ta);
-        const float v = g.grid->lookup(lr.at(t));
-        if (v > 0) points.push_back({t, e * (v * (tb - ta))});
+        const size_t b = grid.brickAt(lr.at(0.5f * (ta + tb)));
+        float a, z;
+        const float u = rng.next1D();
+        if (!grid.brickInterval(b, lr.q0, lr.dq, &a, &z)) return true;
+        const float t = a + u * (z - a);
+        if (!(t >= ta && t < tb)) return true;
+        const float v = grid.lookup(lr.at(t));
+        const float w = v > 0 && weight ? (*weight)(t, b, z - a) : 1.0f;
+        if (v > 0 && w > 0) points.push_back({t, e * (v * (z - a) * w)});
         return true;
     });
 }
@@ -118,7 +129,7 @@ Spectrum Medium::emissionAt(Vec3 p) const {
     return emission * (emissionGrid.grid->lookup(emissionGrid.worldToLocal.point(p)) * emissionGrid.scale);
 }
 
-Spectrum Medium::emitted(const Ray& ray, float t0, float t1, float u) const {
+Spectrum Medium::emitted(const Ray& ray, float t0, float t1, float u, const PointWeight* weight) const {
     if (!emissive() || !(t1 > t0)) return Spectrum(0.0f);
     if (!heterogeneous() && !emissionGrid.grid) {
         const Spectrum st = sigmaT();
@@ -134,7 +145,7 @@ Spectrum Medium::emitted(const Ray& ray, float t0, float t1, float u) const {
     points.clear();
     Rng rng(grid::hashQuery(ray, t0, t1, u), 0xe1e);
     if (emissionGrid.grid)
-        gridPoints(*this, ray, t0, t1, rng, points);
+        gridPoints(*this, ray, t0, t1, rng, weight, points);
     else
         stretchPoints(*this, ray, t0, t1, rng, points);
     return points.empty() ? Spectrum(0.0f) : transmitted(*this, ray, t0, t1, rng, points);

@@ -171,6 +171,7 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
         if (!m.grey()) mediumChannels_ = 3;
         hasEmissiveMedia_ |= m.emissive();
     }
+    volumeLights_ = VolumeLights(desc_.media);
     cameraMedia_ = mediaAt(desc_.camera.position);
 
     // Where light subpaths start. Without bounded media every light sits in the ambient one.

@@ -391,6 +391,30 @@ def emitting_sphere(name):
                    anisotropy=0.0, medium_name="glow", emission=EMITTING[0])
 
 
+def glow_in_fog(name):
+    """A glowing grid in fog (test_emission): furnace_grid.vdb (scattering 2, absorption 1,
+    emission (3, 1.2, 0.3) per unit density) in an invisible box over the grid's extent
+    [-2.2, 2.2]^3, its node scaled by 0.15 (a 0.66 m cube) and moved to (0, 0, -3); in ambient
+    fog (scattering 0.15, absorption 0.02, g 0.3) above a grey floor at y = -0.6; the camera
+    (yfov 0.9) at the origin."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 0.9)
+    b.set_ambient(b.add_medium("fog", 0.15, 0.02, 0.3))
+    grid = {"uri": "furnace_grid.vdb", "grid": "density", "scale": 1.0}
+    glow = b.add_medium("glow", 2.0, 1.0, 0.3, density=grid, emission=dict(grid, rgb=[3.0, 1.2, 0.3]))
+    pos, _nrm, _uvs, idx = g.box((4.4, 4.4, 4.4), (0.0, 0.0, 0.0))
+    assert g.signed_volume(pos, idx) > 0
+    b.add_node("glow_box", mesh=b.add_mesh("glow_box", pos, idx, interior=glow), translation=(0.0, 0.0, -3.0),
+               scale=(0.15, 0.15, 0.15))
+    floor = b.add_material("floor", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0)
+    pos, nrm, _uvs, idx = g.quad((0.0, -0.6, -3.0), (3.0, 0.0, 0.0), (0.0, 0.0, -3.0))
+    if g.triangle_normal(pos, idx, 0)[1] < 0:
+        pos, nrm, _uvs, idx = g.quad((0.0, -0.6, -3.0), (0.0, 0.0, -3.0), (3.0, 0.0, 0.0))
+    assert g.triangle_normal(pos, idx, 0)[1] > 0, "the floor faces up"
+    b.add_node("floor", mesh=b.add_mesh("floor", pos, idx, normals=nrm, material=floor))
+    return b.write(out(name))
+
+
 # The absorbing ramp (test_heterogeneous): density 0.6 + 0.25 x + 0.1 y inside the box
 # [-1.5, 1.5]^2 x [-3, -1], absorption 1 per unit density, in front of a backdrop of radiance 1.
 RAMP = (0.6, 0.25, 0.1)
@@ -492,6 +516,7 @@ def main():
         furnace_glowing("furnace_glowing_grid.gltf", ambient=False, grid=True, node_translation=(0.2, -0.1, 0.15),
                         node_rotation=g.quat_axis_angle((0.0, 1.0, 0.0), 0.45)),
         emitting_sphere("emitting_sphere.gltf"),
+        glow_in_fog("glow_in_fog.gltf"),
     ]
     for path in written:
         print(os.path.relpath(path, os.getcwd()))

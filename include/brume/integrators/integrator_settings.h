@@ -25,6 +25,9 @@ struct IntegratorSettings {
     // Path guiding (`--guiding on`, path_tracer.h and bdpt.h; not with EfficiencyAware).
     bool guiding = false;
     int guidedDistanceDepth = -1;  // the path tracer's guided distances (PathTracerOptions)
+    // The path tracer's next-event estimation towards emissive media (`--volume-lights`; also
+    // the path tracer inside bdpt and auto).
+    bool volumeLights = true;
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two
     // variants kept for measurement (BdptOptions).

@@ -42,6 +42,9 @@ struct PathTracerOptions {
     // vertices up to this many scattering events: 0, the camera rays; −1, none (the
     // default: on the scenes measured they cost more than they gave, docs/path-guiding.md).
     int guidedDistanceDepth = -1;
+    // Next-event estimation towards emissive media with emission grids (volume_light_sampling.h,
+    // `--volume-lights`); off: their emission is gathered along the rays alone.
+    bool volumeLights = true;
 };
 
 class PathTracer : public Integrator {

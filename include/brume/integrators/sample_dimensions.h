@@ -18,6 +18,8 @@
 //     solid-angle distance strategy                (the distance), kLightPoint (2D)
 //   the ray leaving camera vertex k, both        mediumEmission(k) + kEmission (per piece:
 //     tracers: emissive media's estimate           the seed of Medium::emitted)
+//   pt at camera vertex k: next-event estimate   volumeLight(k) + kPick, kLightPoint (2D),
+//     towards emissive media                       kAnchor (the point in its brick)
 //
 // A decision repeated a variable number of times on one place (free flight through several
 // invisible-boundary pieces, pt's equi-angular strategy per piece) reads its dimension with
@@ -56,5 +58,6 @@ constexpr uint32_t equiAngularSegment(int k) { return 0x1000000u + uint32_t(k) *
 constexpr uint32_t solidAngleSegment(int k) { return 0x1800000u + uint32_t(k) * kBlock; }
 constexpr uint32_t kEmission = 0;
 constexpr uint32_t mediumEmission(int k) { return 0x2000000u + uint32_t(k) * kBlock; }
+constexpr uint32_t volumeLight(int k) { return 0x2800000u + uint32_t(k) * kBlock; }
 
 }  // namespace brume::dim

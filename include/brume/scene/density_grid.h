@@ -76,6 +76,31 @@ struct DensityGrid {
         const float c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
         return std::max(0.0f, c0 + fz * (c1 - c0));
     }
+    // The brick holding local point q (inside the box), as an index into `brick`; and the
+    // interval of the whole line q0 + t·dq inside brick b's box [b·B, (b + 1)·B]³, unclipped:
+    // the one-point-per-brick emission estimate draws its point there, and next-event
+    // estimation towards emissive media reads its density from it (medium_emission.cpp).
+    size_t brickAt(Vec3 q) const {
+        return (size_t(int(q.z) / kBrick) * bn[1] + size_t(int(q.y) / kBrick)) * bn[0] + size_t(int(q.x) / kBrick);
+    }
+    bool brickInterval(size_t b, Vec3 q0, Vec3 dq, float* ta, float* tb) const {
+        const int c[3] = {int(b % size_t(bn[0])), int((b / size_t(bn[0])) % size_t(bn[1])), int(b / (size_t(bn[0]) * bn[1]))};
+        float lo = -INFINITY, hi = INFINITY;
+        for (int a = 0; a < 3; ++a) {
+            const float l = float(c[a] * kBrick), h = float((c[a] + 1) * kBrick);
+            if (dq[a] == 0) {
+                if (q0[a] < l || q0[a] >= h) return false;
+                continue;
+            }
+            float t0 = (l - q0[a]) / dq[a], t1 = (h - q0[a]) / dq[a];
+            if (t0 > t1) std::swap(t0, t1);
+            lo = std::max(lo, t0);
+            hi = std::min(hi, t1);
+        }
+        *ta = lo;
+        *tb = hi;
+        return lo < hi;
+    }
     // Local coordinates of an index-space point.
     Vec3 local(Vec3 index) const { return Vec3(index.x - origin[0], index.y - origin[1], index.z - origin[2]); }
 

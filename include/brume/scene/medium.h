@@ -28,6 +28,7 @@
 // (scene/medium_emission.cpp): the integrators add it, times the throughput, on every piece a
 // camera walk crosses.
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include "brume/math/channels.h"
@@ -109,7 +110,11 @@ struct Medium {
     // points and transmittances medium_emission.cpp describes, with random numbers from a
     // hash of the query and u (the sampler's number for it: rays along the same line, as a
     // pixel centre's, still get independent estimates).
-    Spectrum emitted(const Ray& ray, float t0, float t1, float u) const;
+    // weight: a factor on each point of an emission grid's estimate, w(t, brick, length): its
+    // brick (DensityGrid::brickAt) and the length of the ray's interval in it, from which the
+    // point's density is 1/length (MIS with next-event estimation, path_tracer.cpp).
+    using PointWeight = std::function<float(float t, size_t brick, float length)>;
+    Spectrum emitted(const Ray& ray, float t0, float t1, float u, const PointWeight* weight = nullptr) const;
 
 private:
     MediumSample trackDistance(const Ray& ray, float t0, float t1, float uDistance, Spectrum channels,

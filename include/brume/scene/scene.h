@@ -11,6 +11,7 @@
 #include "brume/sampling/distribution1d.h"
 #include "brume/scene/bsdf.h"
 #include "brume/scene/scene_description.h"
+#include "brume/scene/volume_lights.h"
 
 namespace brume {
 
@@ -56,6 +57,7 @@ public:
     const std::vector<Light>& lights() const { return lights_; }
     const Distribution1D& lightDistribution() const { return lightDistribution_; }
     const Medium* medium(int index) const { return index >= 0 ? &desc_.media[index] : nullptr; }
+    int mediumIndex(const Medium* m) const { return m ? int(m - desc_.media.data()) : -1; }
     const Material& material(int mesh) const { return desc_.materials[desc_.meshes[mesh].material]; }
     const Mesh& mesh(int index) const { return desc_.meshes[index]; }
     bool hasMedia() const { return !desc_.media.empty(); }
@@ -70,6 +72,8 @@ public:
     // True if some medium emits (Medium::emission): camera walks gather it on every piece
     // they cross, so they cannot stop or pass a piece early where such a medium may be.
     bool hasEmissiveMedia() const { return hasEmissiveMedia_; }
+    // The emissive media that next-event estimation samples (those with an emission grid).
+    const VolumeLights& volumeLights() const { return volumeLights_; }
     bool hasDirectionalLights() const { return hasDirectionalLights_; }
     // True if some light is an emissive triangle.
     bool hasTriangleLights() const { return hasTriangleLights_; }
@@ -116,6 +120,7 @@ private:
     bool hasDirectionalLights_ = false;
     bool hasTriangleLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
+    VolumeLights volumeLights_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;
     EmitterSampling emitterSampling_ = EmitterSampling::SolidAngle;

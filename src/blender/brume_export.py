@@ -144,15 +144,25 @@ def clamp_g(g):
     return max(-0.999, min(0.999, g))
 
 
-def principled_volume(color, density, absorption_color, anisotropy):
+def volume_emission(color, strength):
+    """Cycles' volume emission (an Emission node on a Volume output, or the Principled Volume's
+    Emission Color x Emission Strength): radiance added per metre, not scaled by the density;
+    what brume's medium "emission" is (measured: a slab of thickness d, absorption sigma_a,
+    shows e / sigma_a * (1 - exp(-sigma_a d)))."""
+    s = max(strength, 0.0)
+    return [max(c, 0.0) * s for c in color]
+
+
+def principled_volume(color, density, absorption_color, anisotropy, emission=(0.0, 0.0, 0.0)):
     """Cycles' Principled Volume (svm_closure.h): sigma_s = color * d, and extinction
     (color + (1 - color)(1 - sqrt(absorption color))) * d, so sigma_a = max(1 - color, 0) *
-    max(1 - sqrt(absorption color), 0) * d; d = max(density, 0)."""
+    max(1 - sqrt(absorption color), 0) * d; d = max(density, 0). emission: volume_emission of
+    its emission inputs."""
     d = max(density, 0.0)
     col = [max(c, 0.0) for c in color]
     sig_s = [c * d for c in col]
     sig_a = [max(1.0 - c, 0.0) * max(1.0 - math.sqrt(max(a, 0.0)), 0.0) * d for c, a in zip(col, absorption_color)]
-    return {"scattering": sig_s, "absorption": sig_a, "anisotropy": clamp_g(anisotropy)}
+    return {"scattering": sig_s, "absorption": sig_a, "anisotropy": clamp_g(anisotropy), "emission": list(emission)}
 
 
 def volume_scatter(color, density, anisotropy):
@@ -172,9 +182,13 @@ def _luminance(rgb):
     return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
 
 
+def _emission(m):
+    return m.get("emission", [0.0, 0.0, 0.0])
+
+
 def scale_medium(m, w):
     return {"scattering": [w * c for c in m["scattering"]], "absorption": [w * c for c in m["absorption"]],
-            "anisotropy": m["anisotropy"]}
+            "anisotropy": m["anisotropy"], "emission": [w * c for c in _emission(m)]}
 
 
 def add_media(a, b):
@@ -189,7 +203,7 @@ def add_media(a, b):
     differ = sa > 0 and sb > 0 and abs(a["anisotropy"] - b["anisotropy"]) > 1e-6
     return ({"scattering": [x + y for x, y in zip(a["scattering"], b["scattering"])],
              "absorption": [x + y for x, y in zip(a["absorption"], b["absorption"])],
-             "anisotropy": clamp_g(g)}, differ)
+             "anisotropy": clamp_g(g), "emission": [x + y for x, y in zip(_emission(a), _emission(b))]}, differ)
 
 
 def mix_media(a, b, fac):
@@ -314,6 +328,9 @@ def medium_json(name, m, density=None):
     out["anisotropy"] = float(m["anisotropy"])
     if density:
         out["density"] = density
+    e = [float(x) for x in _emission(m)]
+    if max(e) > 0:
+        out["emission"] = e
     return out
 
 
@@ -384,11 +401,20 @@ def medium_from_node(node, owner, report, depth=0):
         density = _input_value(node, "Density", owner, report, "textures driving volumes are not exported")
         absorption = _input_value(node, "Absorption Color", owner, report, "textures driving volumes are not exported")
         g = _input_value(node, "Anisotropy", owner, report, "textures driving volumes are not exported")
-        for name in ("Emission Strength", "Blackbody Intensity"):
-            s = node.inputs.get(name)
-            if s is not None and (s.is_linked or s.default_value > 0):
-                report.warn("%s: node '%s': volume emission ('%s') is not exported" % (owner, node.name, name))
-        return principled_volume(color, density, absorption, g), []
+        emission = [0.0, 0.0, 0.0]
+        s = node.inputs.get("Emission Strength")
+        if s is not None and (s.is_linked or s.default_value > 0):
+            strength = _input_value(node, "Emission Strength", owner, report, "textures driving volumes are not exported")
+            ecol = _input_value(node, "Emission Color", owner, report, "textures driving volumes are not exported")
+            emission = volume_emission(ecol, strength)
+        s = node.inputs.get("Blackbody Intensity")
+        if s is not None and (s.is_linked or s.default_value > 0):
+            report.warn("%s: node '%s': blackbody emission ('Blackbody Intensity') is not exported" % (owner, node.name))
+        return principled_volume(color, density, absorption, g, emission), []
+    if t == "ShaderNodeEmission":
+        color = _input_value(node, "Color", owner, report, "textures driving volumes are not exported")
+        strength = _input_value(node, "Strength", owner, report, "textures driving volumes are not exported")
+        return dict(ZERO_MEDIUM, emission=volume_emission(color, strength)), []
     if t == "ShaderNodeVolumeScatter":
         color = _input_value(node, "Color", owner, report, "textures driving volumes are not exported")
         density = _input_value(node, "Density", owner, report, "textures driving volumes are not exported")
@@ -646,11 +672,13 @@ def export_scene(filepath, context=None, report=None):
         return len(media) - 1
 
     ambient = None
+    world_medium = None
     world = scene.world
     if world is not None and world.use_nodes:
         m, bad = volume_of_tree(world.node_tree, "ShaderNodeOutputWorld", "world '%s'" % world.name, report)
         if m is not None:
             ambient = add_medium(world.name, m)
+            world_medium = m
         bg = _active_output(world.node_tree, "ShaderNodeOutputWorld")
         sn = _follow(bg.inputs.get("Surface")) if bg is not None else None
         if sn is not None:
@@ -680,6 +708,13 @@ def export_scene(filepath, context=None, report=None):
             if bad:
                 report.warn("object '%s': material '%s': the medium is exported without node(s) %s"
                             % (obj.name, mat.name, ", ".join("'%s'" % b for b in bad)))
+            if world_medium is not None:
+                # Cycles stacks volumes: inside an object the world's volume is evaluated too,
+                # and their closures add; brume's interior medium replaces the ambient one.
+                m, differ = add_media(m, world_medium)
+                if differ:
+                    report.warn("material '%s': inside it Cycles adds the world's volume, of another anisotropy: "
+                                "brume uses their scattering-weighted mean %.3g" % (mat.name, m["anisotropy"]))
             medium_of_material[mat.name] = add_medium(mat.name, m)
         mi = medium_of_material[mat.name]
         prev = mesh_medium.get(node["mesh"])
@@ -732,6 +767,12 @@ def export_scene(filepath, context=None, report=None):
             grid = "density"
             report.warn("volume object '%s': material '%s' reads no grid as its density: grid 'density' used"
                         % (obj.name, mat.name))
+        if world_medium is not None:
+            report.warn("volume object '%s': Cycles adds the world's volume inside it too; brume's medium there is "
+                        "the grid's alone" % obj.name)
+        if max(_emission(m)) > 0:
+            report.warn("volume object '%s': its emission is exported the same everywhere in its box, not "
+                        "following a grid" % obj.name)
         mi = add_medium(mat.name + "@" + obj.name, m, {"uri": uri, "grid": grid, "scale": 1.0})
         bb = [tuple(v) for v in obj.bound_box]
         lo = [min(v[k] for v in bb) for k in range(3)]

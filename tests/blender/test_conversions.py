@@ -215,6 +215,22 @@ class Volumes(unittest.TestCase):
         self.assertEqual(m["scattering"], [0.75, 0.75, 0.75])
         self.assertEqual(m["absorption"], [0.25, 0.25, 0.25])
 
+    def test_emission(self):
+        # Volume emission is colour x strength per metre, whatever the density; Add sums it,
+        # Mix blends it, and the medium's JSON carries it only where it is not black.
+        self.assertEqual(bx.volume_emission([1.0, 0.5, 0.0], 4.0), [4.0, 2.0, 0.0])
+        self.assertEqual(bx.volume_emission([1.0, -1.0, 0.5], -2.0), [0.0, 0.0, 0.0])
+        p = bx.principled_volume([0.5] * 3, 3.0, [0.0] * 3, 0.2, bx.volume_emission([1.0, 0.5, 0.25], 2.0))
+        self.assertEqual(p["emission"], [2.0, 1.0, 0.5])
+        glow = dict(bx.ZERO_MEDIUM, emission=bx.volume_emission([0.2, 0.3, 1.0], 0.5))
+        m, differ = bx.add_media(p, glow)
+        self.assertFalse(differ)
+        self.assertEqual(m["emission"], [2.1, 1.15, 1.0])
+        m, _ = bx.mix_media(p, glow, 0.5)
+        self.assertEqual(m["emission"], [1.05, 0.575, 0.5])
+        self.assertEqual(bx.medium_json("glow", m)["emission"], [1.05, 0.575, 0.5])
+        self.assertNotIn("emission", bx.medium_json("fog", bx.volume_scatter([1, 1, 1], 1.0, 0.0)))
+
 
 class _Sock:
     """A stand-in for a Blender node socket: a default value and an optional link."""

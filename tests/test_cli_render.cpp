@@ -108,6 +108,7 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --integrator pt --guiding on --guided-distances often", "--guided-distances"},
         {data("empty.gltf") + " -o " + out + " --integrator pt --guided-distances camera", "--guided-distances"},
         {data("empty.gltf") + " -o " + out + " --integrator bdpt --guiding on --guided-distances all", "--guided-distances"},
+        {data("empty.gltf") + " -o " + out + " --volume-lights maybe", "--volume-lights: expected on or off, got 'maybe'"},
         {data("empty.gltf") + " -o " + out + " --sampler halton", "halton"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
@@ -157,6 +158,21 @@ TEST_CASE("cli: scene and file errors exit with 1 and leave no file", "[cli]") {
     checkOneLineError(r);
     CHECK(fs::is_directory(dir / "taken.pfm"));
     CHECK(dir.files().size() == 2);
+}
+
+TEST_CASE("cli: an unknown field of BRUME_media is a warning naming it, and the render goes on", "[cli]") {
+    TempDir dir;
+    std::string text = readFile(std::string(BRUME_TEST_DATA) + "/bad/valid_base.gltf");
+    const std::string name = "\"name\": \"fog\",";
+    REQUIRE(text.find(name) != std::string::npos);
+    text.replace(text.find(name), name.size(), name + " \"emision\": [1, 1, 1],");
+    { std::ofstream(dir / "misspelt.gltf") << text; }
+    Result r = runBrume("render " + quote(dir / "misspelt.gltf") + " -o " + quote(dir / "out.exr") + kTiny);
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("brume: warning: " + dir / "misspelt.gltf" +
+                     ": extensions.BRUME_media.media[0]: unknown field \"emision\" (ignored)\n") != std::string::npos);
+    CHECK(fs::exists(dir / "out.exr"));
 }
 
 TEST_CASE("cli: .exr, .pfm and .png are written and read back", "[cli]") {

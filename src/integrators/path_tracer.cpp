@@ -402,8 +402,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     // An emissive medium's pieces count however the walk ends, so neither shortcut applies.
     const bool hittable = scene.hasHittableLights() || scene.hasEmissiveMedia();
     // Next-event estimation towards emissive media with grids (volume_light_sampling.h): from
-    // every vertex that is not specular; the rays leaving such vertices then leave those
-    // media's emission to it (below).
+    // every vertex that is not specular, MIS-weighted against what the ray leaving that vertex
+    // gathers from those media (below).
     const bool volumeNee = nee && options_.volumeLights && !scene.volumeLights().empty();
     const bool passLast = limited && nee && mode != ConnectMode::Density && !hittable &&
                           !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();

@@ -222,8 +222,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   else throw UsageError("--guided-distances: expected off, camera or all, got '" + v + "'");
               });
     addOption(app, "--volume-lights", "on|off",
-              "the path tracer (also inside auto and bdpt) samples points of glowing media with emission grids "
-              "as lights, MIS-combined with the emission its rays gather (docs/mis.md); on by default",
+              "pt, bdpt (without coloured media) and auto sample points of glowing media with emission grids "
+              "as lights, MIS-combined with the emission the camera paths gather (docs/mis.md); on by default",
               [&](const std::string& v) {
                   if (v == "on") a.volumeLights = true;
                   else if (v == "off") a.volumeLights = false;

@@ -217,9 +217,16 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     const GuidingField* field = guide ? guide->field() : nullptr;
     const uint32_t pixel = uint32_t(std::min(std::max(int(fy), 0), height - 1)) * uint32_t(width) +
                            uint32_t(std::min(std::max(int(fx), 0), width - 1));
+    // Volume lights (volume_light_sampling.h) from the camera walk's vertices up to the last
+    // scattering event, in scenes without coloured media (the weights against the gathering
+    // are then over two strategies alone, not over channels too).
+    const int volumeLightsUpTo = options_.volumeLights && !scene.volumeLights().empty() && channels == 1 &&
+                                         options_.hooks.onlyS < 0
+                                     ? maxScatter
+                                     : 0;
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
                                           camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f,
-                                          options_.heuristic);
+                                          options_.heuristic, volumeLightsUpTo);
     const uint64_t rays1 = stats.rays;
     // The light subpaths of a pass splat all over the image: their numbers come from one
     // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
@@ -268,6 +275,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 
     // What the camera walk's rays gathered from emissive media: paths no other strategy makes.
     Spectrum L = options_.hooks.onlyS < 0 ? mediumEmission(c) : Spectrum(0.0f);
+    if (volumeLightsUpTo > 0) L += volumeLightConnections(c, volumeLightsUpTo);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
     // likewise s = nLight + 1 for equi-angular camera connections on the light walk's.
     const bool anyEquiAngular = options_.connect != ConnectMode::Density;

@@ -8,6 +8,7 @@
 #include "brume/integrators/light_numbers.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/visibility.h"
+#include "brume/integrators/volume_light_sampling.h"
 #include "brume/sampling/hg.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
@@ -237,6 +238,22 @@ Spectrum mediumEmission(const StrategyContext& c) {
     for (int i = 1; i < c.nCamera; ++i) L += c.camera[i].edgeEmission;
     if (c.nCamera < kMaxSubpathVertices && c.camera[c.nCamera].ghost) L += c.camera[c.nCamera].edgeEmission;
     return isBlack(L) ? L : counted(c, StrategyKind::EmitterHit, false, L);
+}
+
+Spectrum volumeLightConnections(const StrategyContext& c, int upTo) {
+    Spectrum L(0.0f);
+    for (int i = 1; i < c.nCamera && i <= upTo; ++i) {
+        const PathVertex& z = c.camera[i];
+        if (z.delta || (z.isSurface() && z.mesh < 0)) continue;  // (a sphere light ends the walk)
+        VolumeLightConnection conn;
+        if (!connectVolumeLight(c.scene, z.p, z.isSurface() ? z.ng : Vec3(0.0f), z.media, c.sampler, dim::volumeLight(i),
+                                c.stats, &conn))
+            continue;
+        const Spectrum f = scatter(c.scene, z, z.wo, conn.wi, TransportMode::Radiance);
+        const float pdir = vertexDirectionPdf(c.scene, z, z.wo, conn.wi, c.width, c.height, c.mis.cameraGuide);
+        L += z.beta * f * conn.Le * volumeLightWeight(true, conn.pdf, pdir, conn.brickLength, conn.dist);
+    }
+    return isBlack(L) ? L : counted(c, StrategyKind::LightConnection, false, L);
 }
 
 Spectrum emitterHit(const StrategyContext& c, int t) {

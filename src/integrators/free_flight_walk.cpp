@@ -1,5 +1,7 @@
 #include "brume/integrators/free_flight_walk.h"
 
+#include "brume/integrators/volume_light_sampling.h"
+
 namespace brume {
 
 namespace {
@@ -27,7 +29,13 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
         if (piece.index == 0) f.firstEnd = piece.t1;
         if (emission && piece.medium && piece.medium->emissive()) {  // before the piece's flight
             const float u = sampler.get1D(emission->dims + dim::kEmission, uint32_t(piece.index));
-            const Spectrum e = piece.medium->emitted(ray, piece.t0, piece.t1, u);
+            const int mi = scene.mediumIndex(piece.medium);
+            const float pdir = emission->dirPdf;
+            const Medium::PointWeight weight = [&scene, mi, pdir](float t, size_t brick, float length) {
+                return volumeLightWeight(false, scene.volumeLights().pdf(mi, brick), pdir, length, t);
+            };
+            const bool weighted = emission->againstVolumeLights && scene.volumeLights().samples(mi);
+            const Spectrum e = piece.medium->emitted(ray, piece.t0, piece.t1, u, weighted ? &weight : nullptr);
             if (!isBlack(e)) emission->gathered += f.weight * e * channelWeight(*emission, f.fwd);
         }
         if (piece.medium && passThrough) {

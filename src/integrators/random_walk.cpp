@@ -102,6 +102,8 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         // channels from prev's on: free_flight_walk.h).
         FlightEmission emission{prev.channelRatio, start.hero, scene.mediumChannels(), start.heuristic,
                                 dim::mediumEmission(count - 1)};
+        emission.againstVolumeLights = count - 1 >= 1 && count - 1 <= start.volumeLightsUpTo && !prev.delta;
+        emission.dirPdf = pdfDir;
         const bool gathers = start.side == dim::Side::Camera && scene.hasEmissiveMedia();
         Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, throughputChannels(beta), sampler, dims, stats,
                                 count >= start.passFrom || (count == start.passFirstAt && !prev.delta),

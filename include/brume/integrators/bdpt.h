@@ -70,8 +70,9 @@ struct BdptOptions {
     // with efficiencyAware.
     bool guiding = false;
     float guideShare = -1;  // ≥ 0: the guided share α in every cell, not learned (tests)
-    // The path tracer inside (auto's pt allocation, guiding's training passes): its
-    // next-event estimation towards emissive media (PathTracerOptions::volumeLights).
+    // Next-event estimation towards emissive media with grids (volume_light_sampling.h), here
+    // (grey scenes) and in the path tracer inside (auto's pt allocation, guiding's training
+    // passes; PathTracerOptions::volumeLights).
     bool volumeLights = true;
 
     // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general

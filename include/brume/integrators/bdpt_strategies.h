@@ -47,6 +47,10 @@ struct StrategyContext {
 // ghost ray after its last vertex included: weight 1 over the strategies, since no other
 // strategy makes these paths (counted with the emitter hits in --stats).
 Spectrum mediumEmission(const StrategyContext& c);
+// Next-event estimation towards the volume lights (volume_light_sampling.h) from the camera
+// vertices 1 … upTo that are not specular, each MIS-weighted against what the camera walk's
+// next ray gathers (the only other strategy that makes these paths; grey scenes only).
+Spectrum volumeLightConnections(const StrategyContext& c, int upTo);
 Spectrum emitterHit(const StrategyContext& c, int t);
 Spectrum lightConnection(const StrategyContext& c, int t);
 void cameraConnection(const StrategyContext& c, int s, SplatList& splats);

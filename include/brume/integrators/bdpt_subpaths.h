@@ -29,7 +29,7 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
                        int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
                        const GuidingField* guide = nullptr, float pixelValue = -1.0f,
-                       MisHeuristic heuristic = MisHeuristic::Power);
+                       MisHeuristic heuristic = MisHeuristic::Power, int volumeLightsUpTo = 0);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing). cameraGuide: the camera walk's guide, for the reverse densities (WalkStart).

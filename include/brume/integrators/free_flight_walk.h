@@ -34,6 +34,11 @@ struct FlightEmission {
     int channels = 1;  // Scene::mediumChannels
     MisHeuristic heuristic = MisHeuristic::Power;
     uint32_t dims = 0;        // dim::mediumEmission of the vertex the flight leaves
+    // The vertex the flight leaves sampled the volume lights (grey scenes only: then
+    // channels = 1): each point of a medium they sample is weighted against them, the ray's
+    // direction density at that vertex being dirPdf (volume_light_sampling.h).
+    bool againstVolumeLights = false;
+    float dirPdf = 0;
     Spectrum gathered{0.0f};  // (out) per unit of throughput at the flight's start
 };
 

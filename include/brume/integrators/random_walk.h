@@ -36,6 +36,10 @@ struct WalkStart {
     // The heuristic of the channel weights of what a camera walk's rays gather from emissive
     // media (PathVertex::edgeEmission).
     MisHeuristic heuristic = MisHeuristic::Power;
+    // The camera walk's vertices 1 … volumeLightsUpTo that are not specular sample the volume
+    // lights (bdpt.cpp, volumeLightConnection): the rays leaving them weigh what they gather
+    // against that. 0: none.
+    int volumeLightsUpTo = 0;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],

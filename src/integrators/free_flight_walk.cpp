@@ -30,10 +30,7 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
         if (emission && piece.medium && piece.medium->emissive()) {  // before the piece's flight
             const float u = sampler.get1D(emission->dims + dim::kEmission, uint32_t(piece.index));
             const int mi = scene.mediumIndex(piece.medium);
-            const float pdir = emission->dirPdf;
-            const Medium::PointWeight weight = [&scene, mi, pdir](float t, size_t brick, float length) {
-                return volumeLightWeight(false, scene.volumeLights().pdf(mi, brick), pdir, length, t);
-            };
+            const Medium::PointWeight weight = gatheringWeight(scene, mi, emission->dirPdf);
             const bool weighted = emission->againstVolumeLights && scene.volumeLights().samples(mi);
             const Spectrum e = piece.medium->emitted(ray, piece.t0, piece.t1, u, weighted ? &weight : nullptr);
             if (!isBlack(e)) emission->gathered += f.weight * e * channelWeight(*emission, f.fwd);

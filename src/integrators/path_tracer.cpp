@@ -433,10 +433,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             // (volume_light_sampling.h); elsewhere only a camera walk makes these paths.
             if (m->emissive()) {
                 const int mi = scene.mediumIndex(m);
-                const float pdir = prevPdf;
-                const Medium::PointWeight weight = [&scene, mi, pdir](float t, size_t brick, float length) {
-                    return volumeLightWeight(false, scene.volumeLights().pdf(mi, brick), pdir, length, t);
-                };
+                const Medium::PointWeight weight = gatheringWeight(scene, mi, prevPdf);
                 const bool weighted = volumeNee && !specularBounce && scene.volumeLights().samples(mi);
                 L += counted(PathTracerTechnique::EmitterHit,
                              beta * m->emitted(Ray{ray.o, ray.d}, piece.t0, piece.t1,

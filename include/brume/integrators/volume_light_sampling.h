@@ -34,6 +34,14 @@ inline float volumeLightWeight(bool own, double pn, double pdir, double brickLen
     return a + b > 0 && std::isfinite(a + b) ? float(a / (a + b)) : (own ? 0.0f : 1.0f);
 }
 
+// The gathering's weight on each point of medium `medium`'s estimate (Medium::emitted) along a
+// ray whose direction density at its start was dirPdf.
+inline Medium::PointWeight gatheringWeight(const Scene& scene, int medium, float dirPdf) {
+    return [&scene, medium, dirPdf](float t, size_t brick, float length) {
+        return volumeLightWeight(false, scene.volumeLights().pdf(medium, brick), dirPdf, length, t);
+    };
+}
+
 // x: a surface point with geometric normal ng, or a medium point (ng = 0), in `media`.
 // Numbers: dims + kPick (medium and brick), kLightPoint (2D) and kAnchor (the point in the
 // brick). False if nothing arrives: y blocked, outside its medium's bounding mesh, or dark.

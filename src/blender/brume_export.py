@@ -87,6 +87,12 @@ def cycles_spot_profile(cos_theta, spot_size, spot_blend):
     return a
 
 
+def cycles_spot_extras(spot_blend):
+    """The light's glTF extras that give brume Cycles' spot profile (cycles_spot_profile, cut at
+    outerConeAngle; include/brume/scene/light.h): glTF viewers still read the cones."""
+    return {"spotProfile": "cycles", "spotBlend": max(0.0, min(1.0, float(spot_blend)))}
+
+
 def gltf_spot_profile(cos_theta, inner, outer):
     """brume's spotAttenuation (include/brume/scene/light.h), the glTF formula."""
     cos_i, cos_o = math.cos(inner), math.cos(outer)
@@ -823,10 +829,7 @@ def export_scene(filepath, context=None, report=None):
             gl["intensity"] = spot_intensity(ld.energy)
             inner, outer = spot_cones(ld.spot_size, ld.spot_blend)
             gl["spot"] = {"innerConeAngle": inner, "outerConeAngle": outer}
-            report.warn("%s: Cycles' spot light falls off as cos(theta) inside its cone and blends with a "
-                        "smoothstep; brume's (glTF's) spot has no cos(theta) factor and blends with t^2: up to "
-                        "%.1f%% brighter at the cone's edge" % (owner, 100 * spot_cos_factor_error(ld.spot_size) /
-                                                              max(1e-9, 1 - spot_cos_factor_error(ld.spot_size))))
+            gl.setdefault("extras", {}).update(cycles_spot_extras(ld.spot_blend))
             if ld.spot_size > math.pi:
                 report.warn("%s: spot cone %.1f deg is wider than brume's 180 deg: cut at 180 deg"
                             % (owner, math.degrees(ld.spot_size)))

@@ -1,4 +1,5 @@
-// glTF loader: KHR_lights_punctual lights (plus brume's sphere lights, extras.radius), in
+// glTF loader: KHR_lights_punctual lights (plus brume's sphere lights, extras.radius, and
+// Cycles' spot profile, extras.spotProfile and spotBlend), in
 // radiometric units: color × intensity is W/sr for point, spot and sphere lights and W/m² for
 // directional ones, with no photometric 683 lm/W factor.
 #include <algorithm>
@@ -64,6 +65,21 @@ Light makeLight(const Source& src, const tinygltf::Model& model, int lightIndex,
                                            num(inner) + ", outerConeAngle " + num(outer));
             l.cosInner = float(std::cos(inner));
             l.cosOuter = float(std::max(0.0, std::cos(outer)));
+            // extras "spotProfile": "gltf" (the default) or "cycles", and "spotBlend" (Blender's
+            // spot_blend, 0 to 1) for the latter: Cycles' profile cut at outerConeAngle.
+            if (const tinygltf::Value* p = member(gl.extras, "spotProfile")) {
+                const std::string pf = lf + ".extras.spotProfile";
+                if (!p->IsString() || (p->Get<std::string>() != "gltf" && p->Get<std::string>() != "cycles"))
+                    src.fail(pf, "expected \"gltf\" or \"cycles\"");
+                l.cyclesSpot = p->Get<std::string>() == "cycles";
+            }
+            if (const tinygltf::Value* b = member(gl.extras, "spotBlend")) {
+                const std::string bf = lf + ".extras.spotBlend";
+                if (!l.cyclesSpot) src.fail(bf, "spotBlend needs \"spotProfile\": \"cycles\"");
+                const double blend = finiteNumber(src, *b, bf);
+                if (blend < 0 || blend > 1) src.fail(bf, "spotBlend " + num(blend) + " must be in [0, 1]");
+                l.spotSmooth = float((1.0 - double(l.cosOuter)) * blend);
+            }
         }
     } else {
         src.fail(lf + ".type", "unknown light type '" + gl.type + "'");

@@ -246,7 +246,9 @@ float lightPower(const Scene& scene, const Light& light) {
     case LightKind::Sphere:
         return 4.0f * kPi * average(light.intensity);
     case LightKind::Spot:
-        // Solid angle of the cone halfway between the inner and outer edge.
+        // Cycles' profile: ∫ cosθ dω over the cone, 2π·∫ c dc = π(1 − cos²θo) (the blend band
+        // left out). glTF's: the solid angle of the cone halfway between its inner and outer edge.
+        if (light.cyclesSpot) return kPi * (1.0f - light.cosOuter * light.cosOuter) * average(light.intensity);
         return 2.0f * kPi * (1.0f - 0.5f * (light.cosInner + light.cosOuter)) * average(light.intensity);
     case LightKind::Directional:
         return kPi * scene.boundsRadius() * scene.boundsRadius() * average(light.intensity);

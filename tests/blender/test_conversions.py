@@ -81,6 +81,14 @@ class Lights(unittest.TestCase):
         self.assertGreater(err, 0.1)  # the measurement can tell the two models apart
         self.assertLessEqual(err, bx.spot_cos_factor_error(d["spot_size"]) + 0.02)
 
+    def test_spot_extras(self):
+        self.assertEqual(bx.cycles_spot_extras(0.15), {"spotProfile": "cycles", "spotBlend": 0.15})
+        self.assertEqual(bx.cycles_spot_extras(1.7)["spotBlend"], 1.0)
+        # brume's C++ profile (tests/test_spot_profile.cpp) is this formula: its hand values.
+        self.assertAlmostEqual(bx.cycles_spot_profile(0.876074, math.pi / 3, 0.15), 0.5 * 0.876074, places=4)
+        self.assertAlmostEqual(bx.cycles_spot_profile(0.95, math.pi / 3, 0.15), 0.95)
+        self.assertEqual(bx.cycles_spot_profile(0.866, math.pi / 3, 0.15), 0.0)
+
     def test_spot_blend_band(self):
         d = self.m["spot_blend"]
         E = np.array(d["irradiance"])

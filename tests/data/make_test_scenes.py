@@ -89,7 +89,8 @@ def single(name, light_pos, scattering=SINGLE_SCATTERING, absorption=SINGLE_ABSO
     return b.write(out(name))
 
 
-def single_spot(name):
+def single_spot(name, cycles=False):
+    """cycles: a 60 degree spot (outer cone pi/6) with Cycles' profile, blend 0.15 (test_spot_profile)."""
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, SINGLE_YFOV)
     b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
@@ -97,8 +98,13 @@ def single_spot(name):
     down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
     d = g.quat_rotate(down, (0.0, 0.0, -1.0))
     assert abs(d[0]) < 1e-12 and abs(d[1] + 1.0) < 1e-12 and abs(d[2]) < 1e-12
-    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
-                inner_cone=0.2, outer_cone=0.4)
+    if cycles:
+        b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
+                    inner_cone=0.45, outer_cone=math.pi / 6)
+        b.lights[-1]["extras"] = {"spotProfile": "cycles", "spotBlend": 0.15}
+    else:
+        b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
+                    inner_cone=0.2, outer_cone=0.4)
     return b.write(out(name))
 
 
@@ -469,6 +475,7 @@ def main():
         single("single_chromatic.gltf", (0.3, 0.2, -3.0), scattering=(0.3, 0.2, 0.1),
                absorption=(0.02, 0.05, 0.1), anisotropy=-0.4),
         single_spot("single_spot.gltf"),
+        single_spot("single_spot_cycles.gltf", cycles=True),
         empty("empty.gltf"),
         quad_light_fog("quad_light_fog.gltf"),
         # Strongly coloured fog (extinction 0.12 to 1.3 /m, ratio 11) for the MIS weight checker

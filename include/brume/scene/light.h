@@ -26,6 +26,10 @@ struct Light {
     Spectrum intensity{0.0f};      // I [W/sr] (point, spot, sphere) or E [W/m²] (directional)
     float radius = 0;              // sphere: uniform surface radiance I/(π r²)
     float cosInner = 1, cosOuter = 0;  // spot cone (glTF innerConeAngle, outerConeAngle)
+    // Spot profile (spotAttenuation): glTF's (false), or Blender Cycles' (true; extras
+    // "spotProfile": "cycles"), whose blend band is cosθ ∈ [cosOuter, cosOuter + spotSmooth].
+    bool cyclesSpot = false;
+    float spotSmooth = 0;
     int mesh = -1, triangle = -1;  // triangle: which mesh and which triangle of it
     // Triangle: the other half of a rectangle (two triangles of one emissive mesh that share a
     // diagonal and make a rectangle), or -1. Seen from a point, the rectangle is sampled as one
@@ -58,7 +62,17 @@ struct Light {
 
 // glTF spot attenuation: scale = 1/max(0.001, cosInner − cosOuter), offset = −cosOuter·scale,
 // a = clamp(cosθ·scale + offset, 0, 1)², θ measured from the spot axis.
+// Cycles' (3.4, `spot_attenuation`): cosθ inside the cone, 0 outside, times a smoothstep
+// s²(3 − 2s), s = (cosθ − cosOuter)/spotSmooth, over the blend band (spotSmooth =
+// (1 − cosOuter)·spot_blend).
 inline float spotAttenuation(const Light& l, float cosTheta) {
+    if (l.cyclesSpot) {
+        if (!(cosTheta > l.cosOuter)) return 0.0f;
+        const float t = cosTheta - l.cosOuter;
+        if (!(l.spotSmooth > 0) || t >= l.spotSmooth) return cosTheta;
+        const float s = t / l.spotSmooth;
+        return cosTheta * s * s * (3.0f - 2.0f * s);
+    }
     float scale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
     float a = std::min(1.0f, std::max(0.0f, cosTheta * scale - l.cosOuter * scale));
     return a * a;

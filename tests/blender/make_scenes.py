@@ -16,7 +16,8 @@ import sys
 
 import bpy
 
-SCENES = ["fog_point", "spot_cube", "sun_window", "area_fog", "glass_fog", "glow_box", "vdb_volume", "bad_volume"]
+SCENES = ["fog_point", "spot_cube", "spot_wide", "sun_window", "area_fog", "glass_fog", "glow_box", "vdb_volume",
+          "bad_volume"]
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
 
 
@@ -245,6 +246,15 @@ def build(name, o):
         cube("smoke", 1.6, (0, 0, 1.2), volume_material(
             "smoke", ("principled", (0.8, 0.6, 0.4), 1.2, (0.3, 0.3, 0.6), 0.5)))
         light(sc, "spot", "SPOT", (0.0, 0.0, 4.5), 3000.0, spot_size=math.radians(25.0), spot_blend=0.1)
+        camera(sc, (0, -6, 2.5), (0, 0, 1.0))
+    elif name == "spot_wide":
+        # spot_cube under a 60 degree spot with a wide blend: Cycles' cos(theta) profile matters
+        # (glTF's would be 3.9 % brighter in the mean).
+        black_world(sc)
+        plane("floor", 20, (0, 0, 0), grey)
+        cube("smoke", 1.6, (0, 0, 1.2), volume_material(
+            "smoke", ("principled", (0.8, 0.6, 0.4), 1.2, (0.3, 0.3, 0.6), 0.5)))
+        light(sc, "spot", "SPOT", (0.0, 0.0, 4.5), 1000.0, spot_size=math.radians(60.0), spot_blend=0.15)
         camera(sc, (0, -6, 2.5), (0, 0, 1.0))
     elif name == "sun_window":
         # A room with a window; sunlight through it into a fog box that fills the room.

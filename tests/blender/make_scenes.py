@@ -239,22 +239,16 @@ def build(name, o):
         cube("block", 1.0, (0.8, 0.5, 0.5), material("red", "diffuse", color=(0.7, 0.2, 0.1)))
         light(sc, "lamp", "POINT", (-0.5, 0.0, 2.0), 300.0, (1.0, 0.9, 0.8))
         camera(sc, (0, -6, 2.0), (0, 0, 1.0))
-    elif name == "spot_cube":
-        # A Principled Volume cube (no surface: a pure medium) under a narrow spot, no world fog.
+    elif name in ("spot_cube", "spot_wide"):
+        # A Principled Volume cube (no surface: a pure medium) under a spot, no world fog: a
+        # narrow one (25 degrees), or a 60 degree one with a wide blend, where Cycles' cos(theta)
+        # profile matters (glTF's would be 3.9 % brighter in the mean).
         black_world(sc)
         plane("floor", 20, (0, 0, 0), grey)
         cube("smoke", 1.6, (0, 0, 1.2), volume_material(
             "smoke", ("principled", (0.8, 0.6, 0.4), 1.2, (0.3, 0.3, 0.6), 0.5)))
-        light(sc, "spot", "SPOT", (0.0, 0.0, 4.5), 3000.0, spot_size=math.radians(25.0), spot_blend=0.1)
-        camera(sc, (0, -6, 2.5), (0, 0, 1.0))
-    elif name == "spot_wide":
-        # spot_cube under a 60 degree spot with a wide blend: Cycles' cos(theta) profile matters
-        # (glTF's would be 3.9 % brighter in the mean).
-        black_world(sc)
-        plane("floor", 20, (0, 0, 0), grey)
-        cube("smoke", 1.6, (0, 0, 1.2), volume_material(
-            "smoke", ("principled", (0.8, 0.6, 0.4), 1.2, (0.3, 0.3, 0.6), 0.5)))
-        light(sc, "spot", "SPOT", (0.0, 0.0, 4.5), 1000.0, spot_size=math.radians(60.0), spot_blend=0.15)
+        power, size, blend = (3000.0, 25.0, 0.1) if name == "spot_cube" else (1000.0, 60.0, 0.15)
+        light(sc, "spot", "SPOT", (0.0, 0.0, 4.5), power, spot_size=math.radians(size), spot_blend=blend)
         camera(sc, (0, -6, 2.5), (0, 0, 1.0))
     elif name == "sun_window":
         # A room with a window; sunlight through it into a fog box that fills the room.

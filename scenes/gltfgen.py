@@ -293,12 +293,13 @@ class GltfBuilder:
 
     # -- media ---------------------------------------------------------------------------------
 
-    def add_medium(self, name, scattering, absorption, anisotropy=0.0, density=None, emission=None):
+    def add_medium(self, name, scattering, absorption, anisotropy=0.0, density=None, emission=None, blackbody=None):
         """A medium (coefficients in 1/m per RGB channel, HG g). Returns its index. density:
         None (homogeneous) or {"uri": "x.vdb", "grid": "density", "scale": 1.0}, a density
         grid the coefficients are per unit of (docs/scene-format.md). emission: None, a grey
         value or RGB triple (radiance per metre), or {"rgb": [...], "uri": ..., "grid": ...,
-        "scale": ...} for an emission grid."""
+        "scale": ...} for an emission grid. blackbody: None or its object ({"temperature": K} or
+        a temperature grid {"uri", "grid", "scale"}, with "intensity" and "tint")."""
         def rgb(v):
             if isinstance(v, (int, float)):
                 return [float(v)] * 3
@@ -313,6 +314,8 @@ class GltfBuilder:
             medium["emission"] = dict(emission)
         elif emission is not None:
             medium["emission"] = rgb(emission)
+        if blackbody is not None:
+            medium["blackbody"] = dict(blackbody)
         self.media.append(medium)
         self.extensions_used.add("BRUME_media")
         return len(self.media) - 1

@@ -1,11 +1,11 @@
 // Emissive media against exact answers:
 //   - Medium::emitted, the estimate of ∫ T·e along a piece, against its closed form in a
 //     homogeneous medium and against 1D quadrature in grids (emission and density grids,
-//     constant emission in a grid medium);
+//     constant emission in a grid medium, a blackbody temperature grid);
 //   - the glowing furnace (walls of albedo 0.5 emitting 0.5 around a medium whose emission
 //     equals its absorption: radiance exactly 1), homogeneous, coloured, bounded and with one
 //     grid for scattering, absorption and emission, for pt in every --connect mode, bdpt in
-//     every mode and auto;
+//     every mode and auto; and with a blackbody temperature grid;
 //   - an absorbing, emitting sphere seen from inside with black walls:
 //     L = e/σa·(1 − exp(−σa·d));
 //   - next-event estimation towards emissive media: its point sampler by chi-square, its MIS
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "brume/integrators/bdpt.h"
+#include "brume/math/blackbody.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/integrators/volume_light_sampling.h"
 #include "brume/scene/density_grid.h"
@@ -90,6 +91,18 @@ double furnaceZ(const Scene& scene, Integrator& integrator, int spp, uint64_t se
     return worstZ(px, 4, std::vector<bool>(px.size(), false), [](int, int) { return Vec3(1.0f); }, where);
 }
 
+// A glowing furnace. furnace_blackbody.gltf's tint is set here to 0.4/e(2500 K), so that its
+// blackbody emission (2500 K everywhere in the sphere) equals its absorption, 0.4.
+std::unique_ptr<Scene> loadFurnace(const std::string& file) {
+    SceneDescription desc = loadGltf(std::string(BRUME_TEST_DATA) + "/" + file);
+    for (Medium& m : desc.media)
+        if (m.blackbody) {
+            const Spectrum e = blackbodyEmission(2500, m.blackbodyIntensity);
+            m.emission = Spectrum(0.4f / e.x, 0.4f / e.y, 0.4f / e.z);
+        }
+    return std::make_unique<Scene>(std::move(desc));
+}
+
 BdptIntegrator makeBdpt(ConnectMode mode, bool efficiencyAware = false) {
     BdptOptions o{-1, MisHeuristic::Power};
     o.connect = mode;
@@ -138,6 +151,12 @@ TEST_CASE("emitted: grid estimates match 1D quadrature", "[emission][oracle]") {
     Medium constant = grid;
     constant.emissionGrid = GridPlacement{};
     constant.emission = Spectrum(0.3f, 0.2f, 0.1f);
+    // A blackbody: the same grid read as a temperature, 400 K per unit (up to ~3500 K in the
+    // blob), tinted: e = tint × blackbodyEmission(T), not linear in the grid.
+    Medium blackbody = grid;
+    blackbody.blackbody = true;
+    blackbody.emission = Spectrum(1.0f, 0.8f, 2.0f);
+    blackbody.emissionGrid.scale = 400.0f;
     struct Case {
         const char* name;
         const Medium* medium;
@@ -148,6 +167,7 @@ TEST_CASE("emitted: grid estimates match 1D quadrature", "[emission][oracle]") {
         {"grid, diagonal", &grid, Vec3(-1.0f, -1.0f, 1.0f), normalize(Vec3(1, 1, -1)), 3.4f},
         {"emission grid in a homogeneous medium", &homogeneous, Vec3(-1.5f, 0.3f, -1.0f), normalize(Vec3(1, 0, 0.05f)), 3.2f},
         {"constant emission in a grid medium", &constant, Vec3(-3.5f, 0.2f, -0.9f), normalize(Vec3(1, 0.02f, 0)), 7.0f},
+        {"blackbody grid, through the blob", &blackbody, Vec3(-1.5f, 0.3f, -1.0f), normalize(Vec3(1, 0, 0.05f)), 3.2f},
     };
     for (const Case& c : cases) {
         const Spectrum ref = quadrature(*c.medium, Ray{c.o, c.d}, 0.0f, c.length);
@@ -190,8 +210,8 @@ TEST_CASE("emitting sphere seen from inside: L = e/sigma_a (1 - exp(-sigma_a d))
 TEST_CASE("glowing furnace: pt in every connect mode gives 1", "[emission][pt][oracle]") {
     // Per-pixel z over 8 × 8 pixel centres, 3 channels, against the Bonferroni bound.
     for (const char* file : {"furnace_glowing.gltf", "furnace_glowing_bounded.gltf", "furnace_glowing_chromatic.gltf",
-                             "furnace_glowing_grid.gltf"}) {
-        auto scene = loadTestScene(file);
+                             "furnace_glowing_grid.gltf", "furnace_blackbody.gltf"}) {
+        auto scene = loadFurnace(file);
         for (ConnectMode mode : kConnectModes) {
             PathTracer pt(PathTracerOptions{-1, true, mode});
             const int W = 8, H = 8;
@@ -216,8 +236,9 @@ TEST_CASE("glowing furnace: pt in every connect mode gives 1", "[emission][pt][o
 TEST_CASE("glowing furnace: bdpt in every connect mode and auto give 1", "[emission][bdpt][oracle][sanitizer-skip]") {
     // 2 × 2 blocks of an 8 × 8 image from 32 independent renders (light-tracing splats
     // included), |z| < 4.5.
-    for (const char* file : {"furnace_glowing.gltf", "furnace_glowing_chromatic.gltf", "furnace_glowing_grid.gltf"}) {
-        auto scene = loadTestScene(file);
+    for (const char* file : {"furnace_glowing.gltf", "furnace_glowing_chromatic.gltf", "furnace_glowing_grid.gltf",
+                             "furnace_blackbody.gltf"}) {
+        auto scene = loadFurnace(file);
         for (ConnectMode mode : kConnectModes) {
             BdptIntegrator bdpt = makeBdpt(mode);
             std::string where;

@@ -251,7 +251,7 @@ Spectrum volumeLightConnections(const StrategyContext& c, int upTo) {
             continue;
         const Spectrum f = scatter(c.scene, z, z.wo, conn.wi, TransportMode::Radiance);
         const float pdir = vertexDirectionPdf(c.scene, z, z.wo, conn.wi, c.width, c.height, c.mis.cameraGuide);
-        L += z.beta * f * conn.Le * volumeLightWeight(true, conn.pdf, pdir, conn.brickLength, conn.dist);
+        L += z.beta * f * conn.Le * volumeLightWeight(true, conn.pdf, pdir, conn.stratumLength, conn.dist);
     }
     return isBlack(L) ? L : counted(c, StrategyKind::LightConnection, false, L);
 }

@@ -231,7 +231,7 @@ Spectrum volumeDirect(const Scene& scene, const Vertex& v, Vec3 ng, const Medium
     if (!connectVolumeLight(scene, v.p, ng, media, sampler, dim::volumeLight(depth), stats, &c)) return Spectrum(0.0f);
     float pdir;
     const Spectrum f = v.eval(c.wi, &pdir, true);
-    return f * c.Le * volumeLightWeight(true, c.pdf, pdir, c.brickLength, c.dist);
+    return f * c.Le * volumeLightWeight(true, c.pdf, pdir, c.stratumLength, c.dist);
 }
 
 // The in-scattered estimate at x(t) on seg from a light sample, weighted w / p_self:

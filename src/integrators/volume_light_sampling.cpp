@@ -34,7 +34,8 @@ bool connectVolumeLight(const Scene& scene, Vec3 x, Vec3 ng, const MediumStack& 
         if ((piece.hit.valid() && !piece.boundary) || isBlack(T)) return false;
     }
     if (walk.exhausted() || walk.media().current() != s.medium) return false;
-    // ℓ: the ray's interval in y's brick, as the gathering along this ray would draw it.
+    // ℓ: y's stratum of the ray's interval in its brick, as the gathering along this ray
+    // would draw it (Medium::emitted).
     const grid::LocalRay lr = grid::toLocal(medium.emissionGrid, Ray{x, d});
     float a, z;
     if (!medium.emissionGrid.grid->brickInterval(s.brick, lr.q0, lr.dq, &a, &z)) return false;
@@ -42,7 +43,7 @@ bool connectVolumeLight(const Scene& scene, Vec3 x, Vec3 ng, const MediumStack& 
     out->Le = e * T / (dist * dist * s.pdf);
     out->pdf = s.pdf;
     out->dist = dist;
-    out->brickLength = z - a;
+    out->stratumLength = (z - a) / float(medium.emissionStrata());
     return isFinite(out->Le);
 }
 

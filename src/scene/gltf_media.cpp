@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <limits>
 
+#include "brume/math/blackbody.h"
 #include "brume/scene/gltf_detail.h"
 #include "brume/scene/vdb_file.h"
 
@@ -136,6 +137,46 @@ void parseEmission(const Source& src, const tinygltf::Value& e, const std::strin
     medium.emissionGrid = loadGrid(src, e, field, &medium.density, files);
 }
 
+double boundedNumber(const Source& src, const tinygltf::Value& v, const std::string& field, double lo, double hi) {
+    if (!v.IsNumber()) src.fail(field, "expected a number");
+    const double d = v.GetNumberAsDouble();
+    if (!(d >= lo && d <= hi)) src.fail(field, num(d) + " is outside [" + num(lo) + ", " + num(hi) + "]");
+    return d;
+}
+
+// "blackbody": Cycles' Principled Volume blackbody (math/blackbody.h): {"temperature": K} for one
+// temperature, or {"uri", "grid", "scale"} for a temperature grid (kelvin = scale × the grid's
+// value, placed like "density", which it may be); with "intensity" b in [0, 1] (default 1) and
+// "tint" [r, g, b] (default 1). A constant temperature adds to "emission"; a grid cannot be
+// combined with "emission" (a medium has one emission grid).
+void parseBlackbody(const Source& src, const tinygltf::Value& b, const std::string& field, Medium& medium,
+                    std::vector<std::string>& files, std::vector<std::string>& warnings) {
+    if (!b.IsObject())
+        src.fail(field, "expected an object {\"temperature\": kelvin} or {\"uri\": ..., \"grid\": ..., \"scale\": ...}");
+    warnUnknown(src, b, {"temperature", "uri", "grid", "scale", "intensity", "tint"}, field, warnings);
+    const tinygltf::Value* t = member(b, "temperature");
+    const bool grid = member(b, "uri") != nullptr;
+    if (t && grid) src.fail(field, "give either \"temperature\" or a grid (\"uri\"), not both");
+    if (!t && !grid) src.fail(field, "expected \"temperature\" (kelvin) or a temperature grid (\"uri\")");
+    float intensity = 1;
+    if (const tinygltf::Value* i = member(b, "intensity")) intensity = float(boundedNumber(src, *i, field + ".intensity", 0, 1));
+    const tinygltf::Value* tintValue = member(b, "tint");
+    const Spectrum tint = tintValue ? coefficient(src, tintValue, field + ".tint") : Spectrum(1.0f);
+    if (t) {
+        const float kelvin = float(boundedNumber(src, *t, field + ".temperature", 0, 1e6));
+        if (medium.emissionGrid.grid)
+            src.fail(field, "a blackbody of one temperature cannot be added to an emission grid; give it in the grid's \"rgb\"");
+        medium.emission += tint * blackbodyEmission(kelvin, intensity);
+        return;
+    }
+    if (medium.emissive() || medium.emissionGrid.grid)
+        src.fail(field, "a blackbody temperature grid cannot be combined with \"emission\" in one medium");
+    medium.emission = tint;
+    medium.emissionGrid = loadGrid(src, b, field, &medium.density, files);
+    medium.blackbody = true;
+    medium.blackbodyIntensity = intensity;
+}
+
 Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::string& field, std::vector<std::string>& files,
                    std::vector<std::string>& warnings) {
     if (!m.IsObject()) src.fail(field, "expected an object");
@@ -157,9 +198,7 @@ Medium parseMedium(const Source& src, const tinygltf::Value& m, const std::strin
     }
     if (const tinygltf::Value* d = member(m, "density")) parseDensity(src, *d, field + ".density", medium, files, warnings);
     if (const tinygltf::Value* e = member(m, "emission")) parseEmission(src, *e, field + ".emission", medium, files, warnings);
-    if (member(m, "blackbody"))
-        src.fail(field + ".blackbody", "blackbody emission is not supported by this version of brume; "
-                                       "give \"emission\" in RGB instead");
+    if (const tinygltf::Value* b = member(m, "blackbody")) parseBlackbody(src, *b, field + ".blackbody", medium, files, warnings);
     return medium;
 }
 

@@ -9,20 +9,27 @@
 //     E = e·(1 − exp(−σt·ℓ))/σt   (e·ℓ where σt = 0),   ℓ = t1 − t0.
 // Otherwise a sum over points, one uniform point t_i in each interval [a_i, b_i) of where the
 // medium may emit: with an emission grid, the whole interval of the ray inside each brick it
-// crosses with a non-zero majorant (not clipped to the piece: a point outside the piece counts
-// 0, the rest of the brick is the next piece's, so the point's density is a function of the
-// ray and the brick alone, as next-event estimation needs); with constant emission in a grid
-// medium, the pieces of the density grid's bricks and the stretches outside its box:
+// crosses with a non-zero majorant, cut into emissionStrata() equal strata (not clipped to the
+// piece: a point outside the piece counts 0, the rest of the brick is the next piece's, so the
+// point's density is a function of the ray and the brick alone, as next-event estimation
+// needs); with constant emission in a grid medium, the pieces of the density grid's bricks and
+// the stretches outside its box:
 //     E ≈ Σ_i (b_i − a_i)·e(t_i)·T̂(t0, t_i),
 // unbiased for any T̂ with E[T̂] = T that does not depend on the points, and stratified along
-// the ray (Simon et al. 2017 integrate emission along the line; one point per brick is its
-// plainest form). T̂ is exact in a homogeneous medium; in a grid it is one ratio-tracking
+// the ray (Simon et al. 2017 integrate emission along the line; a few points per brick is its
+// plainest form). The strata: a brick is 8 voxels wide, and emission that follows a
+// temperature as T⁴ (a blackbody) changes by orders of magnitude across it; with one point per
+// brick a flame's hot voxels were a rare, heavy tail (test_emission's blackbody ray: one
+// estimate's spread 1.6× the mean and the largest of 4000 estimates 9× it; with 8 strata
+// 0.8× and 4×). Emission linear in a smooth grid gains nothing from them: the campfire at
+// equal time with 8 strata took 6 % longer per sample, its relative variance no lower. T̂ is exact in a homogeneous medium; in a grid it is one ratio-tracking
 // walk, whose running product Π_j (1 − σt(x_j)/μ̄) over the tentative collisions x_j < t_i
 // estimates T(t0, t_i) for every t_i at once, with the roulette of Medium::transit.
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "brume/math/blackbody.h"
 #include "brume/scene/density_grid.h"
 #include "brume/scene/grid_tracking.h"
 #include "brume/scene/medium.h"
@@ -36,25 +43,28 @@ struct EmissionPoint {
     Spectrum w;  // (b − a)·e(t)
 };
 
-// One uniform point in the ray's interval in each brick of the emission grid with a non-zero
-// majorant, counted where it falls in this piece [ta, tb), times `weight` if given.
+// One uniform point in each stratum of the ray's interval in each brick of the emission grid
+// with a non-zero majorant, counted where it falls in this piece [ta, tb), times `weight` if
+// given.
 void gridPoints(const Medium& m, const Ray& ray, float t0, float t1, Rng& rng, const Medium::PointWeight* weight,
                 std::vector<EmissionPoint>& points) {
     const GridPlacement& g = m.emissionGrid;
     const DensityGrid& grid = *g.grid;
     const grid::LocalRay lr = grid::toLocal(g, ray);
-    const Spectrum e = m.emission * g.scale;
     grid.forEachMajorant(lr.q0, lr.dq, t0, t1, [&](float ta, float tb, float majorant, float) {
         if (majorant <= 0 || !(tb > ta)) return true;
         const size_t b = grid.brickAt(lr.at(0.5f * (ta + tb)));
         float a, z;
-        const float u = rng.next1D();
         if (!grid.brickInterval(b, lr.q0, lr.dq, &a, &z)) return true;
-        const float t = a + u * (z - a);
-        if (!(t >= ta && t < tb)) return true;
-        const float v = grid.lookup(lr.at(t));
-        const float w = v > 0 && weight ? (*weight)(t, b, z - a) : 1.0f;
-        if (v > 0 && w > 0) points.push_back({t, e * (v * (z - a) * w)});
+        const int strata = m.emissionStrata();
+        const float stride = (z - a) / float(strata);
+        for (int k = 0; k < strata; ++k) {
+            const float t = a + (float(k) + rng.next1D()) * stride;
+            if (!(t >= ta && t < tb)) continue;
+            const float v = grid.lookup(lr.at(t));
+            const float w = v > 0 && weight ? (*weight)(t, b, stride) : 1.0f;
+            if (v > 0 && w > 0) points.push_back({t, m.emissionOf(v) * (stride * w)});
+        }
         return true;
     });
 }
@@ -126,7 +136,12 @@ Spectrum transmitted(const Medium& m, const Ray& ray, float t0, float t1, Rng& r
 Spectrum Medium::emissionAt(Vec3 p) const {
     if (!emissive()) return Spectrum(0.0f);
     if (!emissionGrid.grid) return emission;
-    return emission * (emissionGrid.grid->lookup(emissionGrid.worldToLocal.point(p)) * emissionGrid.scale);
+    return emissionOf(emissionGrid.grid->lookup(emissionGrid.worldToLocal.point(p)));
+}
+
+Spectrum Medium::emissionOf(float v) const {
+    if (blackbody) return emission * blackbodyEmission(v * emissionGrid.scale, blackbodyIntensity);
+    return emission * (v * emissionGrid.scale);
 }
 
 Spectrum Medium::emitted(const Ray& ray, float t0, float t1, float u, const PointWeight* weight) const {

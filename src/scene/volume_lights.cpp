@@ -26,12 +26,12 @@ VolumeLights::VolumeLights(const std::vector<Medium>& media) {
         grid.brickVolume = float(std::abs(det) * B * B * B);
         grid.bn[0] = g.bn[0];
         grid.bn[1] = g.bn[1];
-        const double colour = (double(m.emission.x) + m.emission.y + m.emission.z) / 3 * m.emissionGrid.scale;
         std::vector<float> weights;
         double total = 0;
         for (size_t b = 0; b < g.brick.size(); ++b) {
             if (g.brick[b] == DensityGrid::kEmptyBrick || !(g.majorant[b] > 0)) continue;
-            const double wgt = double(g.majorant[b]) * grid.brickVolume * colour;
+            const Spectrum e = m.emissionOf(g.majorant[b]);
+            const double wgt = (double(e.x) + e.y + e.z) / 3 * grid.brickVolume;
             grid.slot.push_back(uint32_t(b));
             weights.push_back(float(wgt));
             total += wgt;

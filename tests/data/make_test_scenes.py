@@ -59,15 +59,16 @@ def inward_sphere(radius):
 
 
 def furnace(name, ambient, wall_albedo, wall_emission, scattering=1.0, absorption=0.0, anisotropy=0.5,
-            medium_name="fog", density=None, node_translation=None, node_rotation=None, emission=None):
+            medium_name="fog", density=None, node_translation=None, node_rotation=None, emission=None,
+            blackbody=None):
     """wall_albedo and wall_emission: a grey value or an RGB triple. density: a density grid
     for the medium (BRUME_media "density"); emission: the medium's (BRUME_media "emission");
-    node_*: the wall node's transform."""
+    node_*: the wall node's transform; blackbody: the medium's "blackbody"."""
     rgb = lambda v: tuple(v) if isinstance(v, (tuple, list)) else (v,) * 3
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, 1.0)
     fog = b.add_medium(medium_name, scattering=scattering, absorption=absorption, anisotropy=anisotropy,
-                       density=density, emission=emission)
+                       density=density, emission=emission, blackbody=blackbody)
     wall = b.add_material("wall", base_color=rgb(wall_albedo), metallic=0.0, roughness=1.0,
                           emissive=rgb(wall_emission))
     pos, idx = inward_sphere(FURNACE_RADIUS)
@@ -386,6 +387,16 @@ def furnace_glowing(name, ambient=True, scattering=0.6, absorption=0.4, grid=Fal
                    node_translation=node_translation, node_rotation=node_rotation)
 
 
+def furnace_blackbody(name):
+    """The glowing furnace with blackbody emission (test_emission): a temperature grid of 2500 K
+    everywhere in the sphere (temperature_uniform.vdb, value 1 over [-2.5, 2.5]^3, scale 2500);
+    scattering 0.6, absorption 0.4. The test sets the tint to 0.4 / e(2500 K), so that the
+    emission equals the absorption and the radiance is 1."""
+    return furnace(name, True, wall_albedo=0.5, wall_emission=0.5, scattering=0.6, absorption=0.4, anisotropy=0.4,
+                   medium_name="glow", blackbody={"uri": "temperature_uniform.vdb", "grid": "density",
+                                                  "scale": 2500.0, "intensity": 1.0})
+
+
 # The emitting box (test_emission): black walls around an absorbing medium that emits e:
 # L = e/σa·(1 − exp(−σa·d)), d the distance to the wall. Emission 0.3, 0.5, 0.2 over
 # absorption 0.2, 0.6, 1.4 (a coloured medium).
@@ -522,6 +533,8 @@ def main():
         furnace_glowing("furnace_glowing_chromatic.gltf", scattering=(0.3, 0.8, 1.6), absorption=(0.5, 0.3, 0.1)),
         furnace_glowing("furnace_glowing_grid.gltf", ambient=False, grid=True, node_translation=(0.2, -0.1, 0.15),
                         node_rotation=g.quat_axis_angle((0.0, 1.0, 0.0), 0.45)),
+        write_grid("temperature_uniform.vdb", (-10, -10, -10), (10, 10, 10), 0.25, lambda x, y, z: 1.0 + 0.0 * x),
+        furnace_blackbody("furnace_blackbody.gltf"),
         emitting_sphere("emitting_sphere.gltf"),
         glow_in_fog("glow_in_fog.gltf"),
     ]

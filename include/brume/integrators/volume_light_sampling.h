@@ -5,8 +5,8 @@
 // Both make the path x → y; in volume measure at y their densities are
 //     next-event:  p_n(y) = P(medium)·P(brick)/V_brick          (VolumeLights::pdf)
 //     gathering:   p_g(y) = p_dir(ω) / (ℓ·t²)
-// (the direction's density at x, then y's point uniform over the length ℓ of the ray's
-// interval in y's brick, t = |y − x|), and each is weighted by the power heuristic. Close to x
+// (the direction's density at x, then y's point uniform over the length ℓ of its stratum of
+// the ray's interval in y's brick, t = |y − x|), and each is weighted by the power heuristic. Close to x
 // p_g grows as 1/t² and takes the weight (next-event estimation's 1/t² there has infinite
 // variance); far from it, at a small bright source, p_n does.
 #pragma once
@@ -23,13 +23,13 @@ struct VolumeLightConnection {
     Spectrum Le;  // e(y)·T(x, y) / (|x − y|²·p_n(y)): times the phase function or BSDF·|cos|, the estimate
     float pdf = 0;          // p_n(y)
     float dist = 0;         // t
-    float brickLength = 0;  // ℓ
+    float stratumLength = 0;  // ℓ
 };
 
 // The power heuristic's weight for next-event estimation (own = true) or the gathering, from
 // p_n, the direction's density p_dir at x, ℓ and t.
-inline float volumeLightWeight(bool own, double pn, double pdir, double brickLength, double t) {
-    const double pg = pdir / (brickLength * t * t);
+inline float volumeLightWeight(bool own, double pn, double pdir, double stratumLength, double t) {
+    const double pg = pdir / (stratumLength * t * t);
     const double a = own ? pn * pn : pg * pg, b = own ? pg * pg : pn * pn;
     return a + b > 0 && std::isfinite(a + b) ? float(a / (a + b)) : (own ? 0.0f : 1.0f);
 }

@@ -24,7 +24,9 @@
 //
 // Emission (docs/scene-format.md, "emission"): a medium may add radiance along a ray,
 // dL/ds += e(x), e = emission × (grid value × scale, or 1 without an emission grid), whatever
-// its albedo. `emitted` estimates what a piece sends back to its start, ∫ T(t0, t)·e(t) dt
+// its albedo; or, for a blackbody grid, e = emission (the tint) × blackbodyEmission(grid value
+// × scale kelvin) (math/blackbody.h; a constant temperature is turned into constant emission
+// by the loader). `emitted` estimates what a piece sends back to its start, ∫ T(t0, t)·e(t) dt
 // (scene/medium_emission.cpp): the integrators add it, times the throughput, on every piece a
 // camera walk crosses.
 #pragma once
@@ -83,6 +85,8 @@ struct Medium {
     GridPlacement density;  // no grid: homogeneous
     Spectrum emission{0.0f};    // radiance per metre (× the emission grid where there is one)
     GridPlacement emissionGrid; // no grid: the same everywhere in the medium
+    bool blackbody = false;     // the emission grid is a temperature in kelvin, emission its tint
+    float blackbodyIntensity = 1;  // b in math/blackbody.h
     bool heterogeneous() const { return density.grid != nullptr; }
     bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
     Spectrum sigmaT() const { return sigmaS + sigmaA; }
@@ -105,15 +109,21 @@ struct Medium {
     float densityAt(Vec3 p) const;
     // The emission coefficient e at a world point (0 in a medium that does not emit).
     Spectrum emissionAt(Vec3 p) const;
+    // e where the emission grid's stored value is v (before its scale).
+    Spectrum emissionOf(float v) const;
     // An unbiased estimate of ∫_{t0}^{t1} T(t0, t)·e(t) dt along the ray (0 if the medium does
     // not emit): in closed form in a homogeneous medium with constant emission, else from the
     // points and transmittances medium_emission.cpp describes, with random numbers from a
     // hash of the query and u (the sampler's number for it: rays along the same line, as a
     // pixel centre's, still get independent estimates).
     // weight: a factor on each point of an emission grid's estimate, w(t, brick, length): its
-    // brick (DensityGrid::brickAt) and the length of the ray's interval in it, from which the
-    // point's density is 1/length (MIS with next-event estimation, path_tracer.cpp).
+    // brick (DensityGrid::brickAt) and the length of its stratum, 1/emissionStrata() of the
+    // ray's interval in the brick, from which the point's density is 1/length (MIS with
+    // next-event estimation, integrators/volume_light_sampling.h).
     using PointWeight = std::function<float(float t, size_t brick, float length)>;
+    // Points per brick along a ray in an emission grid (medium_emission.cpp): 8 for a
+    // blackbody, whose T⁴ changes by orders of magnitude across a brick, else 1.
+    int emissionStrata() const { return blackbody ? 8 : 1; }
     Spectrum emitted(const Ray& ray, float t0, float t1, float u, const PointWeight* weight = nullptr) const;
 
 private:

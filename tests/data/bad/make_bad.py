@@ -216,12 +216,15 @@ def with_fog(name, **fields):
 
 
 def bad_emission():
-    """Emissive media: a negative emission, a blackbody (not supported yet), a missing emission
+    """Emissive media: a negative emission, a blackbody intensity out of [0, 1], a blackbody grid
+    beside emission, a blackbody with neither temperature nor grid, a missing emission
     grid file; an ambient fog that would emit out to infinity: with no extinction in a channel
     it emits in, or with a density grid and emission without one."""
     with_fog("emission_negative.gltf", emission=[0.2, -0.5, 0.2])
-    with_fog("emission_blackbody.gltf", blackbody={"uri": "smoke_ok.vdb", "grid": "density", "scale": 1.0,
-                                                    "intensity": 1.0})
+    with_fog("blackbody_intensity.gltf", blackbody={"temperature": 1500.0, "intensity": 2.0})
+    with_fog("blackbody_and_emission.gltf", emission=[0.1, 0.1, 0.1],
+             blackbody={"uri": "smoke_ok.vdb", "grid": "density", "scale": 1000.0})
+    with_fog("blackbody_empty.gltf", blackbody={"intensity": 1.0})
     with_fog("emission_missing_grid.gltf", emission={"rgb": [1.0, 0.5, 0.1], "uri": "no_such_fire.vdb"})
     with_fog("emission_ambient_clear.gltf", emission=[0.1, 0.1, 0.1], scattering=[0.1, 0.0, 0.1],
              absorption=[0.0, 0.0, 0.0])

@@ -159,6 +159,16 @@ def volume_emission(color, strength):
     return [max(c, 0.0) * s for c in color]
 
 
+def blackbody(temperature, intensity, tint, attribute=""):
+    """Cycles' Principled Volume blackbody (measured against Cycles 3.4: tests/test_blackbody.cpp):
+    e = tint * (5.670373e-8 * 1e-6 / pi) * ((1 - b) + b * T^4) * c(T) per metre, c(T) the
+    blackbody colour of luminance 1, T = Temperature x the Temperature Attribute's grid where the
+    volume has that grid (Volume objects), else Temperature. brume computes e from this object
+    (BRUME_media "blackbody"); "attribute" is the exporter's own note of the grid's name."""
+    return {"temperature": max(float(temperature), 0.0), "intensity": max(0.0, min(1.0, float(intensity))),
+            "tint": [max(float(c), 0.0) for c in tint], "attribute": attribute or ""}
+
+
 def principled_volume(color, density, absorption_color, anisotropy, emission=(0.0, 0.0, 0.0)):
     """Cycles' Principled Volume (svm_closure.h): sigma_s = color * d, and extinction
     (color + (1 - color)(1 - sqrt(absorption color))) * d, so sigma_a = max(1 - color, 0) *
@@ -193,8 +203,11 @@ def _emission(m):
 
 
 def scale_medium(m, w):
-    return {"scattering": [w * c for c in m["scattering"]], "absorption": [w * c for c in m["absorption"]],
-            "anisotropy": m["anisotropy"], "emission": [w * c for c in _emission(m)]}
+    out = {"scattering": [w * c for c in m["scattering"]], "absorption": [w * c for c in m["absorption"]],
+           "anisotropy": m["anisotropy"], "emission": [w * c for c in _emission(m)]}
+    if m.get("blackbody"):
+        out["blackbody"] = dict(m["blackbody"], tint=[w * c for c in m["blackbody"]["tint"]])
+    return out
 
 
 def add_media(a, b):
@@ -207,9 +220,14 @@ def add_media(a, b):
     else:
         g = 0.0
     differ = sa > 0 and sb > 0 and abs(a["anisotropy"] - b["anisotropy"]) > 1e-6
-    return ({"scattering": [x + y for x, y in zip(a["scattering"], b["scattering"])],
-             "absorption": [x + y for x, y in zip(a["absorption"], b["absorption"])],
-             "anisotropy": clamp_g(g), "emission": [x + y for x, y in zip(_emission(a), _emission(b))]}, differ)
+    out = {"scattering": [x + y for x, y in zip(a["scattering"], b["scattering"])],
+           "absorption": [x + y for x, y in zip(a["absorption"], b["absorption"])],
+           "anisotropy": clamp_g(g), "emission": [x + y for x, y in zip(_emission(a), _emission(b))]}
+    # One blackbody per medium: the first one's (the caller warns when both have one).
+    bb = a.get("blackbody") or b.get("blackbody")
+    if bb:
+        out["blackbody"] = bb
+    return out, differ
 
 
 def mix_media(a, b, fac):
@@ -337,6 +355,10 @@ def medium_json(name, m, density=None):
     e = [float(x) for x in _emission(m)]
     if max(e) > 0:
         out["emission"] = e
+    bb = m.get("blackbody")
+    if bb and bb["intensity"] > 0 and max(bb["tint"]) > 0:
+        out["blackbody"] = bb.get("grid_ref") or {"temperature": bb["temperature"]}
+        out["blackbody"] = dict(out["blackbody"], intensity=bb["intensity"], tint=list(bb["tint"]))
     return out
 
 
@@ -397,6 +419,12 @@ def _follow(sock):
 ZERO_MEDIUM = {"scattering": [0.0, 0.0, 0.0], "absorption": [0.0, 0.0, 0.0], "anisotropy": 0.0}
 
 
+def _warn_two_blackbodies(a, b, owner, node, report):
+    if a.get("blackbody") and b.get("blackbody"):
+        report.warn("%s: node '%s' combines two blackbody emissions: brume's medium has one; the first is exported"
+                    % (owner, node.name))
+
+
 def medium_from_node(node, owner, report, depth=0):
     """The medium a volume shader node describes: (medium, unsupported node names)."""
     if node is None or depth > 64:
@@ -413,10 +441,16 @@ def medium_from_node(node, owner, report, depth=0):
             strength = _input_value(node, "Emission Strength", owner, report, "textures driving volumes are not exported")
             ecol = _input_value(node, "Emission Color", owner, report, "textures driving volumes are not exported")
             emission = volume_emission(ecol, strength)
+        m = principled_volume(color, density, absorption, g, emission)
         s = node.inputs.get("Blackbody Intensity")
         if s is not None and (s.is_linked or s.default_value > 0):
-            report.warn("%s: node '%s': blackbody emission ('Blackbody Intensity') is not exported" % (owner, node.name))
-        return principled_volume(color, density, absorption, g, emission), []
+            b = _input_value(node, "Blackbody Intensity", owner, report, "textures driving volumes are not exported")
+            t = _input_value(node, "Temperature", owner, report, "textures driving volumes are not exported")
+            tint = _input_value(node, "Blackbody Tint", owner, report, "textures driving volumes are not exported")
+            attr = node.inputs.get("Temperature Attribute")
+            m["blackbody"] = blackbody(t, b, tint if tint is not None else (1.0, 1.0, 1.0),
+                                       getattr(attr, "default_value", "") if attr is not None else "")
+        return m, []
     if t == "ShaderNodeEmission":
         color = _input_value(node, "Color", owner, report, "textures driving volumes are not exported")
         strength = _input_value(node, "Strength", owner, report, "textures driving volumes are not exported")
@@ -434,6 +468,7 @@ def medium_from_node(node, owner, report, depth=0):
         a, ua = medium_from_node(_follow(node.inputs[0]), owner, report, depth + 1)
         b, ub = medium_from_node(_follow(node.inputs[1]), owner, report, depth + 1)
         m, differ = add_media(a, b)
+        _warn_two_blackbodies(a, b, owner, node, report)
         if differ:
             report.warn("%s: node '%s' adds phase functions of different anisotropy (%.3g, %.3g): brume uses their "
                         "scattering-weighted mean %.3g" % (owner, node.name, a["anisotropy"], b["anisotropy"],
@@ -444,6 +479,7 @@ def medium_from_node(node, owner, report, depth=0):
         a, ua = medium_from_node(_follow(node.inputs[1]), owner, report, depth + 1)
         b, ub = medium_from_node(_follow(node.inputs[2]), owner, report, depth + 1)
         m, differ = mix_media(a, b, fac)
+        _warn_two_blackbodies(a, b, owner, node, report)
         if differ:
             report.warn("%s: node '%s' mixes phase functions of different anisotropy: brume uses their "
                         "scattering-weighted mean %.3g" % (owner, node.name, m["anisotropy"]))
@@ -602,12 +638,70 @@ use_extension_later = set()
 # The export (bpy)
 # --------------------------------------------------------------------------------------------
 
-def _world_matrix_gltf(obj):
-    """Object's world matrix in glTF's frame, as a column-major list of 16."""
+def volume_density_scale(matrix3, space):
+    """Cycles' density (and emission) factor for a Volume object (Blender's
+    BKE_volume_density_scale): 1/|M (1, 1, 1)/sqrt(3)| in render space "OBJECT" (the default), M
+    the object's 3x3 world matrix (rows); 1 in "WORLD". Measured: a Volume object scaled by 0.5
+    glows twice as much per metre."""
+    if space != "OBJECT":
+        return 1.0
+    u = 1.0 / math.sqrt(3.0)
+    v = [sum(row[k] * u for k in range(3)) for row in matrix3]
+    n = math.sqrt(sum(c * c for c in v))
+    return 1.0 / n if n > 0 else 1.0
+
+
+def _volume_grid_names(vol):
+    try:
+        vol.grids.load()
+    except Exception:  # noqa: BLE001 (an unreadable file: no names, the caller warns)
+        pass
+    try:
+        return {g.name for g in vol.grids}
+    except Exception:  # noqa: BLE001
+        return set()
+
+
+def _volume_blackbody_grid(vol, m, uri, obj, report):
+    """A Volume object's blackbody reads its Temperature Attribute's grid if the file has one:
+    T = Temperature x grid (then brume's "blackbody" is that grid, scaled). Returns its name."""
+    bb = m.get("blackbody")
+    if not bb or not bb["attribute"]:
+        return None
+    if bb["attribute"] not in _volume_grid_names(vol):
+        report.warn("volume object '%s': no grid '%s' for the blackbody's temperature: %g K everywhere"
+                    % (obj.name, bb["attribute"], bb["temperature"]))
+        return None
+    bb["grid_ref"] = {"uri": uri, "grid": bb["attribute"], "scale": bb["temperature"]}
+    return bb["attribute"]
+
+
+def _world_matrix_gltf(obj, offset=(0.0, 0.0, 0.0)):
+    """Object's world matrix in glTF's frame, as a column-major list of 16; offset: a translation
+    in the object's own space applied first."""
     import mathutils
     conv = mathutils.Matrix(((1, 0, 0, 0), (0, 0, 1, 0), (0, -1, 0, 0), (0, 0, 0, 1)))
-    m = conv @ obj.matrix_world
+    m = conv @ obj.matrix_world @ mathutils.Matrix.Translation(offset)
     return [m[r][c] for c in range(4) for r in range(4)]
+
+
+def half_voxel_offset(grid_matrix):
+    """Cycles 3.4 reads voxel (i, j, k) of a Volume object's grid at index (i, j, k) + 1/2, where
+    OpenVDB (and brume) put it at (i, j, k): the grid's linear part times (1/2, 1/2, 1/2), in
+    object space (grid_matrix: the grid's 4x4 index-to-object matrix, rows). Measured on the
+    vdb_volume round trip: without it brume's cloud sat half a voxel low and to the left."""
+    return tuple(0.5 * (grid_matrix[r][0] + grid_matrix[r][1] + grid_matrix[r][2]) for r in range(3))
+
+
+def _grid_matrix(vol, name):
+    try:
+        vol.grids.load()
+        for g in vol.grids:
+            if g.name == name:
+                return [list(r) for r in g.matrix_object]
+    except Exception:  # noqa: BLE001 (unreadable: no offset)
+        pass
+    return None
 
 
 def _object_of_node(node):
@@ -776,13 +870,30 @@ def export_scene(filepath, context=None, report=None):
         if world_medium is not None:
             report.warn("volume object '%s': Cycles adds the world's volume inside it too; brume's medium there is "
                         "the grid's alone" % obj.name)
+        bb_grid = _volume_blackbody_grid(vol, m, uri, obj, report)
+        if max(_emission(m)) > 0 and bb_grid:
+            report.warn("volume object '%s': its emission is not exported: brume's medium takes a blackbody "
+                        "temperature grid or emission, not both" % obj.name)
+            m["emission"] = [0.0, 0.0, 0.0]
         if max(_emission(m)) > 0:
             report.warn("volume object '%s': its emission is exported the same everywhere in its box, not "
                         "following a grid" % obj.name)
+        # Cycles' render space "Object" (the default): densities and emission per unit of the
+        # object's space, scaled by 1/|M (1, 1, 1)/sqrt(3)|, M the object's world matrix.
+        ds = volume_density_scale([list(r)[:3] for r in obj.matrix_world[:3]], vol.render.space)
+        if ds != 1.0:
+            m = scale_medium(m, ds)
         mi = add_medium(mat.name + "@" + obj.name, m, {"uri": uri, "grid": grid, "scale": 1.0})
+        # The grid moved by Cycles' half voxel (half_voxel_offset); the box around the grid's
+        # bounds grown by two voxels a side, so that it holds the trilinear fall-off beyond the
+        # outermost voxels wherever the half voxel puts them (outside the grid the medium is
+        # empty: a larger box changes nothing else).
+        gm = _grid_matrix(vol, grid)
+        off = half_voxel_offset(gm) if gm else (0.0, 0.0, 0.0)
+        pad = [2.0 * sum(abs(gm[r][c]) for c in range(3)) if gm else 0.0 for r in range(3)]
         bb = [tuple(v) for v in obj.bound_box]
-        lo = [min(v[k] for v in bb) for k in range(3)]
-        hi = [max(v[k] for v in bb) for k in range(3)]
+        lo = [min(v[k] for v in bb) - off[k] - pad[k] for k in range(3)]
+        hi = [max(v[k] for v in bb) - off[k] + pad[k] for k in range(3)]
         corners = [(lo[0] if i & 1 == 0 else hi[0], lo[1] if i & 2 == 0 else hi[1], lo[2] if i & 4 == 0 else hi[2])
                    for i in range(8)]
         # Outward counter-clockwise faces of the box (corner bits: x=1, y=2, z=4).
@@ -792,9 +903,10 @@ def export_scene(filepath, context=None, report=None):
             idx += [a, b, c, a, c, d]
         mesh = add_buffer_mesh(gltf, obj.name, corners, [(0.0, 0.0, 1.0)] * 8, idx, None)
         gltf["meshes"][mesh]["extensions"] = {"BRUME_media": {"interior": mi}}
-        add_root_node(gltf, {"name": obj.name, "mesh": mesh, "matrix": _world_matrix_gltf(obj)})
-        report.warn("volume object '%s': grid '%s' of %s, density scale per unit of the grid; other grids "
-                    "(color, temperature, flame) are not exported" % (obj.name, grid, uri))
+        add_root_node(gltf, {"name": obj.name, "mesh": mesh, "matrix": _world_matrix_gltf(obj, off)})
+        report.warn("volume object '%s': grid '%s' of %s, density scale per unit of the grid%s; other grids "
+                    "(color, flame) are not exported" % (obj.name, grid, uri,
+                                                         ", temperature grid '%s'" % bb_grid if bb_grid else ""))
     # A volume material on an object that is not a mesh or volume (curves, text...) is skipped by
     # glTF: say so.
     exported = {n.get("name") for n in nodes}

@@ -117,8 +117,7 @@ Spectrum integratedColour(double T) {
         Y += B * kCie1931[i][1];
         Z += B * kCie1931[i][2];
     }
-    const Spectrum c = toRec709(X / Y, 1.0, Z / Y);
-    return Spectrum(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f));
+    return toRec709(X / Y, 1.0, Z / Y);
 }
 
 const std::array<Spectrum, kSteps + 1>& table() {
@@ -138,6 +137,11 @@ Spectrum blackbodyColour(float kelvin) {
     const float f = x - float(i);
     const auto& t = table();
     return t[size_t(i)] * (1 - f) + t[size_t(i) + 1] * f;
+}
+
+Spectrum blackbodyColourClipped(float kelvin) {
+    const Spectrum c = blackbodyColour(kelvin);
+    return Spectrum(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f));
 }
 
 Spectrum blackbodyEmission(float kelvin, float intensity) {

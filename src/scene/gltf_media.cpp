@@ -213,7 +213,7 @@ void checkAmbientEmission(const Source& src, const Medium& medium, const std::st
                                       "emit out to infinity; give the emission a grid, or put the medium inside a mesh");
     const Spectrum st = medium.sigmaT();
     for (int c = 0; c < 3; ++c)
-        if (medium.emission[c] > 0 && !(st[c] > 0))
+        if (medium.emission[c] != 0 && !(st[c] > 0))
             src.fail(field + ".emission", "the ambient medium emits in a channel where it has no extinction: the "
                                           "radiance would be infinite; give it absorption or scattering there");
 }

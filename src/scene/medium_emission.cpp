@@ -152,7 +152,7 @@ Spectrum Medium::emitted(const Ray& ray, float t0, float t1, float u, const Poin
         Spectrum E;
         for (int c = 0; c < 3; ++c) {
             const double s = st[c];
-            E[c] = emission[c] > 0 ? float(emission[c] * (s > 0 ? -std::expm1(-s * len) / s : len)) : 0.0f;
+            E[c] = emission[c] != 0 ? float(emission[c] * (s > 0 ? -std::expm1(-s * len) / s : len)) : 0.0f;
         }
         return E;
     }

@@ -31,7 +31,7 @@ VolumeLights::VolumeLights(const std::vector<Medium>& media) {
         for (size_t b = 0; b < g.brick.size(); ++b) {
             if (g.brick[b] == DensityGrid::kEmptyBrick || !(g.majorant[b] > 0)) continue;
             const Spectrum e = m.emissionOf(g.majorant[b]);
-            const double wgt = (double(e.x) + e.y + e.z) / 3 * grid.brickVolume;
+            const double wgt = (std::abs(double(e.x)) + std::abs(e.y) + std::abs(e.z)) / 3 * grid.brickVolume;
             grid.slot.push_back(uint32_t(b));
             weights.push_back(float(wgt));
             total += wgt;

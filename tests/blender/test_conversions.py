@@ -300,6 +300,51 @@ class VolumeGrids(unittest.TestCase):
         self.assertEqual(bx.density_grid_of_node(mix), "soot")
 
 
+class Blackbody(unittest.TestCase):
+    def test_blackbody_object(self):
+        b = bx.blackbody(1500.0, 1.7, (1.0, -0.5, 0.25), "temperature")
+        self.assertEqual(b, {"temperature": 1500.0, "intensity": 1.0, "tint": [1.0, 0.0, 0.25],
+                             "attribute": "temperature"})
+        self.assertEqual(bx.blackbody(-20.0, 0.5, (1, 1, 1))["temperature"], 0.0)
+
+    def test_medium_json(self):
+        m = bx.principled_volume([0.5, 0.5, 0.5], 1.0, [0.0, 0.0, 0.0], 0.0)
+        m["blackbody"] = bx.blackbody(2000.0, 0.5, (1.0, 0.5, 0.5), "temperature")
+        j = bx.medium_json("fire", m)
+        self.assertEqual(j["blackbody"], {"temperature": 2000.0, "intensity": 0.5, "tint": [1.0, 0.5, 0.5]})
+        m["blackbody"]["grid_ref"] = {"uri": "fire.vdb", "grid": "temperature", "scale": 2000.0}
+        j = bx.medium_json("fire", m)
+        self.assertEqual(j["blackbody"], {"uri": "fire.vdb", "grid": "temperature", "scale": 2000.0,
+                                          "intensity": 0.5, "tint": [1.0, 0.5, 0.5]})
+        m["blackbody"]["intensity"] = 0.0
+        self.assertNotIn("blackbody", bx.medium_json("fire", m))
+
+    def test_mix_scales_the_tint_and_add_keeps_one(self):
+        a = bx.principled_volume([0.5, 0.5, 0.5], 1.0, [0.0, 0.0, 0.0], 0.0)
+        a["blackbody"] = bx.blackbody(2000.0, 1.0, (1.0, 1.0, 1.0))
+        b = bx.volume_scatter([1, 1, 1], 1.0, 0.0)
+        m, _ = bx.mix_media(a, b, 0.25)
+        self.assertEqual(m["blackbody"]["tint"], [0.75, 0.75, 0.75])
+        self.assertEqual(a["blackbody"]["tint"], [1.0, 1.0, 1.0])  # not changed in place
+        m, _ = bx.add_media(b, a)
+        self.assertEqual(m["blackbody"]["temperature"], 2000.0)
+
+
+class VolumeObjects(unittest.TestCase):
+    def test_density_scale(self):
+        # Blender's render space "OBJECT": 1/|M (1,1,1)/sqrt 3|; "WORLD": 1.
+        self.assertAlmostEqual(bx.volume_density_scale([[0.5, 0, 0], [0, 0.5, 0], [0, 0, 0.5]], "OBJECT"), 2.0)
+        self.assertAlmostEqual(bx.volume_density_scale([[0.5, 0, 0], [0, 0.5, 0], [0, 0, 0.5]], "WORLD"), 1.0)
+        self.assertAlmostEqual(bx.volume_density_scale([[1, 0, 0], [0, 2, 0], [0, 0, 3]], "OBJECT"),
+                               1.0 / math.sqrt(14.0 / 3.0))
+        c, s = math.cos(0.7), math.sin(0.7)  # a rotation changes nothing
+        self.assertAlmostEqual(bx.volume_density_scale([[c, -s, 0], [s, c, 0], [0, 0, 1]], "OBJECT"), 1.0)
+
+    def test_half_voxel_offset(self):
+        g = [[0.25, 0, 0, 1.0], [0, 0.25, 0, 2.0], [0, 0, 0.5, 3.0], [0, 0, 0, 1]]
+        self.assertEqual(bx.half_voxel_offset(g), (0.125, 0.125, 0.25))
+
+
 class Settings(unittest.TestCase):
     def test_max_depth(self):
         self.assertEqual(bx.brume_max_depth(0), 1)

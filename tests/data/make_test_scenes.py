@@ -338,6 +338,31 @@ def write_grid(name, lo, hi, voxel, field):
     return out(name)
 
 
+def write_fire(name):
+    """A small fire (the Blender round trip fire_grid): grids "density" (smoke: a plume rising
+    around and above a flame, 0 to about 1.5) and "temperature" (the flame: up to 2, in units Blender's
+    Temperature input scales to kelvin), 24 x 24 x 32 voxels of 0.05 m, z up, the flame's base
+    at the origin."""
+    import numpy as np
+    import pyopenvdb as vdb
+    lo = np.array((-12, -12, 0))
+    idx = np.indices((24, 24, 32)) + lo[:, None, None, None]
+    x, y, z = idx * 0.05
+    r2 = x * x + y * y
+    flame = 2.0 * np.exp(-r2 / 0.03 - (z - 0.4) ** 2 / 0.1)
+    plume = 1.5 * np.exp(-r2 / (0.04 + 0.1 * z)) / (1.0 + np.exp(-(z - 0.35) / 0.1))
+    grids = []
+    for gname, field in (("density", plume), ("temperature", flame)):
+        values = np.where(field > 1e-3, field, 0.0).astype(np.float32)
+        grid = vdb.FloatGrid()
+        grid.name = gname
+        grid.copyFromArray(values, ijk=tuple(int(v) for v in lo), tolerance=0)
+        grid.transform = vdb.createLinearTransform(voxelSize=0.05)
+        grids.append(grid)
+    vdb.write(out(name), grids=grids)
+    return out(name)
+
+
 def write_sparse_blocks(name):
     """A sparse grid "density" (voxel 0.05): two 8³ blocks of value 0.5 + (i + j + k) / 100,
     at index (0, 0, 0) and (2000, 0, 0), and an active tile of 0.25 filling the 128³ internal
@@ -535,6 +560,7 @@ def main():
                         node_rotation=g.quat_axis_angle((0.0, 1.0, 0.0), 0.45)),
         write_grid("temperature_uniform.vdb", (-10, -10, -10), (10, 10, 10), 0.25, lambda x, y, z: 1.0 + 0.0 * x),
         furnace_blackbody("furnace_blackbody.gltf"),
+        write_fire("fire.vdb"),
         emitting_sphere("emitting_sphere.gltf"),
         glow_in_fog("glow_in_fog.gltf"),
     ]

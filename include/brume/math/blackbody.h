@@ -5,16 +5,22 @@
 // c(T) Planck's spectrum at T seen by the CIE 1931 2° observer, in linear Rec.709 and scaled to
 // luminance 1:  c = M·(X, Y, Z)/Y,  (X, Y, Z) = ∫ B(λ, T)·(x̄, ȳ, z̄)(λ) dλ,  M: XYZ → Rec.709.
 // The colour is held at its 800 K value below 800 K and its 12000 K value above 12000 K, as
-// Cycles does. Where c leaves the Rec.709 gamut (blue below ≈ 1900 K, green below ≈ 960 K)
-// Cycles emits negative radiance; brume clips those channels to 0 (emission must not be
-// negative). T ≤ 0 emits nothing (Cycles leaves (1 − b)·σ·10⁻⁶/π ≈ 1.8e-14 per metre there).
+// Cycles does. Where c leaves the Rec.709 gamut (blue below ≈ 1900 K, green below ≈ 960 K) a
+// channel is negative, and Cycles' Principled Volume emits negative radiance there; brume
+// keeps it too, so that a cool flame looks as in Cycles (the fire_grid round trip: clipped,
+// its blue was 16 % brighter than Cycles'). Its Blackbody node clips to 0
+// (blackbodyColourClipped). T ≤ 0 emits nothing (Cycles leaves (1 − b)·σ·10⁻⁶/π ≈ 1.8e-14
+// per metre there).
 #pragma once
 #include "brume/math/vec3.h"
 
 namespace brume {
 
-// c(T): luminance-normalised Rec.709 colour of a blackbody, negative channels clipped to 0.
+// c(T): luminance-normalised Rec.709 colour of a blackbody (a channel may be negative).
 Spectrum blackbodyColour(float kelvin);
+
+// c(T) with negative channels set to 0, as Cycles' Blackbody node gives it.
+Spectrum blackbodyColourClipped(float kelvin);
 
 // e(T) for tint 1 and blackbody intensity b (the formula above).
 Spectrum blackbodyEmission(float kelvin, float intensity);

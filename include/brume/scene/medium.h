@@ -88,7 +88,8 @@ struct Medium {
     bool blackbody = false;     // the emission grid is a temperature in kelvin, emission its tint
     float blackbodyIntensity = 1;  // b in math/blackbody.h
     bool heterogeneous() const { return density.grid != nullptr; }
-    bool emissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+    // (A blackbody's channel may be negative below ~1900 K, as in Cycles: math/blackbody.h.)
+    bool emissive() const { return emission.x != 0 || emission.y != 0 || emission.z != 0; }
     Spectrum sigmaT() const { return sigmaS + sigmaA; }
     // One extinction for all channels: distance sampling needs no channel choice.
     bool grey() const {

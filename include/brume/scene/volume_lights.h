@@ -1,9 +1,10 @@
 // Emissive media as lights: next-event estimation towards a glowing grid (fire, glowing
 // smoke) draws a point y in proportion to an upper bound of the power the media emit: a
 // medium, then one of its emission grid's stored bricks, each in proportion to
-//     world volume × mean(e(majorant))
+//     world volume × mean(|e(majorant)|)
 // (e at the majorant, the largest value in the brick: e grows with the grid's value, linearly
-// or as a blackbody's; every point that emits can be drawn), then y
+// or as a blackbody's, whose cool channels may be negative; every point that emits can be
+// drawn), then y
 // uniform in the brick. Its volume density is p(y) = P(medium)·P(brick)/V_brick; the caller
 // weighs e(y) by it. Only media with an emission grid are sampled: constant emission has no
 // bounded region to draw from (it stays with the camera walk's gathering, medium_emission.cpp).

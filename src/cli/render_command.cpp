@@ -110,6 +110,7 @@ struct RenderArgs {
     std::string checkpoint;       // --checkpoint FILE
     double checkpointEvery = 60;  // seconds
     bool checkpointEveryGiven = false;
+    double writeEvery = 0;        // --write-every SECONDS (0: only at the end)
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
 };
@@ -238,6 +239,10 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   a.checkpointEvery = parsePositiveSeconds("--checkpoint-every", v, 1e7);
                   a.checkpointEveryGiven = true;
               });
+    addOption(app, "--write-every", "SECONDS",
+              "also write OUT every SECONDS while rendering, the image of the passes so far (beside OUT and "
+              "renamed into place), to watch a long render; the final image is the same",
+              [&](const std::string& v) { a.writeEvery = parsePositiveSeconds("--write-every", v, 1e7); });
     addOption(app, "--resume", "FILE",
               "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
               "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis, "
@@ -584,22 +589,34 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     options.threads = a.threads;
     options.progress = ::isatty(2) != 0;
 
-    // Periodic checkpoints between passes; the state at a stop is saved below. A failed
-    // periodic save is a warning: the render goes on and the next save may succeed.
-    Clock::time_point lastSave = Clock::now();
+    // Periodic checkpoints and images (--write-every) between passes; the state and image at
+    // the end are written below. A failed periodic write is a warning: the render goes on and
+    // the next one may succeed.
+    Clock::time_point lastSave = Clock::now(), lastWrite = Clock::now();
+    auto periodic = [&](const Film& f, uint64_t nonFiniteSoFar) {
+        auto warnOnFailure = [](const std::function<void()>& write) {
+            try {
+                write();
+            } catch (const std::exception& e) {
+                std::fprintf(stderr, "brume: warning: %s\n", e.what());
+            }
+        };
+        if (!a.checkpoint.empty() && secondsSince(lastSave) >= a.checkpointEvery) {
+            warnOnFailure([&] { writeCheckpoint(a.checkpoint, scenePath, settings, f, nonFiniteSoFar, integrator.saveState()); });
+            lastSave = Clock::now();
+        }
+        if (a.writeEvery > 0 && secondsSince(lastWrite) >= a.writeEvery) {
+            warnOnFailure([&] { writeImage(a.output, res.width, res.height, finalImage(f, integrator, a.sampler)); });
+            lastWrite = Clock::now();
+        }
+    };
     RenderControl control;
     control.cancel = &gInterrupted;
     control.dropInFlight = true;
     control.afterPass = [&](const Film& f, const RenderStats& s) {
         if (s.passes == a.stopAfterPasses) ::raise(SIGTERM);
-        if (a.checkpoint.empty() || gInterrupted.load() || f.passes() >= a.spp) return;
-        if (secondsSince(lastSave) < a.checkpointEvery) return;
-        try {
-            writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + s.nonFinite, integrator.saveState());
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "brume: warning: %s\n", e.what());
-        }
-        lastSave = Clock::now();
+        if (gInterrupted.load() || (a.seconds <= 0 && f.passes() >= a.spp)) return;  // (the end writes both)
+        periodic(f, earlierNonFinite + s.nonFinite);
     };
     catchSignals();  // kept to the end: a signal while the files are written does not cut them short
     if (a.stopAfterPasses == 0) ::raise(SIGTERM);
@@ -625,15 +642,10 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             if (lead && a.stopAfterPasses > 0 && film.passes() - donePasses >= a.stopAfterPasses) ::raise(SIGTERM);
             return gInterrupted.load();
         };
-        auto save = [&](const Film& f, uint64_t nf) {
-            try {
-                writeCheckpoint(a.checkpoint, scenePath, settings, f, earlierNonFinite + nf, integrator.saveState());
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "brume: warning: %s\n", e.what());
-            }
-        };
-        shared = renderOnRanks(group, scene, integrator, options, film, plan, interrupted,
-                               a.checkpoint.empty() ? 0.0 : a.checkpointEvery, save);
+        // Rank 0 gathers the film at the shorter of the two periods; periodic() writes what is due.
+        const double every = std::min(a.checkpoint.empty() ? 1e30 : a.checkpointEvery, a.writeEvery > 0 ? a.writeEvery : 1e30);
+        auto save = [&](const Film& f, uint64_t nf) { periodic(f, earlierNonFinite + nf); };
+        shared = renderOnRanks(group, scene, integrator, options, film, plan, interrupted, every < 1e30 ? every : 0.0, save);
         stats = shared.stats;
         if (shared.stopped && gSignal.load() == 0) gSignal.store(SIGTERM);  // stopped for another rank
         if (shared.stopped) gInterrupted.store(true);

@@ -21,6 +21,7 @@
 #include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/denoise_features.h"
 #include "brume/integrators/integrator_settings.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
@@ -111,6 +112,7 @@ struct RenderArgs {
     double checkpointEvery = 60;  // seconds
     bool checkpointEveryGiven = false;
     double writeEvery = 0;        // --write-every SECONDS (0: only at the end)
+    bool aovAlbedo = false, aovNormal = false;  // --aov
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
 };
@@ -243,6 +245,20 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "also write OUT every SECONDS while rendering, the image of the passes so far (beside OUT and "
               "renamed into place), to watch a long render; the final image is the same",
               [&](const std::string& v) { a.writeEvery = parsePositiveSeconds("--write-every", v, 1e7); });
+    addOption(app, "--aov", "LIST",
+              "also write these layers into the EXR, for denoisers (docs/denoising.md): albedo, normal "
+              "(comma-separated)",
+              [&](const std::string& v) {
+                  size_t at = 0;
+                  while (at <= v.size()) {
+                      const size_t comma = std::min(v.find(',', at), v.size());
+                      const std::string name = v.substr(at, comma - at);
+                      if (name == "albedo") a.aovAlbedo = true;
+                      else if (name == "normal") a.aovNormal = true;
+                      else throw UsageError("--aov: unknown layer '" + name + "' (available: albedo, normal)");
+                      at = comma + 1;
+                  }
+              });
     addOption(app, "--resume", "FILE",
               "continue the render saved in checkpoint FILE: the result is the same, bit for bit, as one that "
               "never stopped; scene file, --res, --seed, --spp, --integrator, --connect, --max-depth, --mis, "
@@ -280,6 +296,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     if (!a.resume.empty() && a.seconds > 0) throw UsageError("--resume needs --spp, not --time");
     if (!a.checkpoint.empty() && a.checkpoint == a.output)
         throw UsageError("--checkpoint and --output name the same file '" + a.output + "'");
+    if ((a.aovAlbedo || a.aovNormal) && a.output.size() >= 4 && a.output.compare(a.output.size() - 4, 4, ".exr") != 0 &&
+        a.output.compare(a.output.size() - 4, 4, ".EXR") != 0)
+        throw UsageError("--aov needs an .exr output (the layers go into it)");
     return true;
 }
 
@@ -547,6 +566,14 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     if (const int exit = loadAgreedScene(group, argv, a, sceneStorage, res); exit >= 0) return exit;
     const Scene& scene = *sceneStorage;
 
+    // Denoising layers (--aov): computed once, written with every image.
+    std::vector<ImageLayer> layers;
+    if (lead && (a.aovAlbedo || a.aovNormal)) {
+        DenoiseFeatures features = denoiseFeatures(scene, res.width, res.height, a.seed, a.threads);
+        if (a.aovAlbedo) layers.push_back({"Albedo", {"R", "G", "B"}, std::move(features.albedo)});
+        if (a.aovNormal) layers.push_back({"Normal", {"X", "Y", "Z"}, std::move(features.normal)});
+    }
+
     const IntegratorSettings method = integratorSettings(a);
     BdptOptions bdptOptions = brume::bdptOptions(method);  // for the strategy images
     std::unique_ptr<Integrator> integratorPtr = makeIntegrator(method);
@@ -606,7 +633,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             lastSave = Clock::now();
         }
         if (a.writeEvery > 0 && secondsSince(lastWrite) >= a.writeEvery) {
-            warnOnFailure([&] { writeImage(a.output, res.width, res.height, finalImage(f, integrator, a.sampler)); });
+            warnOnFailure([&] { writeImage(a.output, res.width, res.height, finalImage(f, integrator, a.sampler), layers); });
             lastWrite = Clock::now();
         }
     };
@@ -674,7 +701,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             checkpointError = std::current_exception();
         }
     }
-    writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler));
+    writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler), layers);
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
     const AllocationPlanner* planner =

@@ -117,13 +117,29 @@ void decodeSrgb(int width, int height, std::vector<float>& rgb) {
 }
 
 void writeWithOiio(const std::string& file, ImageFormat format, int width, int height,
-                   const std::vector<float>& rgb) {
+                   const std::vector<float>& rgb, const std::vector<ImageLayer>& layers) {
     std::vector<unsigned char> srgb;
     if (format == ImageFormat::Png) srgb = srgbBytes(width, height, rgb);
     auto out = OIIO::ImageOutput::create(file);
     if (!out) throw std::runtime_error(firstLine(OIIO::geterror()));
     OIIO::TypeDesc type = format == ImageFormat::Png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-    OIIO::ImageSpec spec(width, height, 3, type);
+    const int channels = 3 + 3 * int(layers.size());
+    OIIO::ImageSpec spec(width, height, channels, type);
+    std::vector<float> all;  // R, G, B, then each layer's three, per pixel
+    if (!layers.empty()) {
+        std::vector<std::string> names = {"R", "G", "B"};
+        for (const ImageLayer& l : layers)
+            for (const std::string& c : l.channels) names.push_back(l.name + "." + c);
+        spec.channelnames = names;
+        const size_t n = size_t(width) * size_t(height);
+        all.resize(n * size_t(channels));
+        for (size_t i = 0; i < n; ++i) {
+            float* o = &all[i * size_t(channels)];
+            for (int c = 0; c < 3; ++c) o[c] = rgb[3 * i + size_t(c)];
+            for (size_t l = 0; l < layers.size(); ++l)
+                for (int c = 0; c < 3; ++c) o[3 + 3 * l + size_t(c)] = layers[l].values[3 * i + size_t(c)];
+        }
+    }
     spec.attribute("oiio:ColorSpace", format == ImageFormat::Png ? "sRGB" : "linear");
     // An empty capture date: OpenImageIO would stamp the time of writing into EXR headers, and
     // the same render (straight, or interrupted and resumed) must give the same bytes.
@@ -133,7 +149,7 @@ void writeWithOiio(const std::string& file, ImageFormat format, int width, int h
         if (format == ImageFormat::Png) {
             ok = out->write_image(OIIO::TypeDesc::UINT8, srgb.data());
         } else {
-            ok = out->write_image(OIIO::TypeDesc::FLOAT, rgb.data());
+            ok = out->write_image(OIIO::TypeDesc::FLOAT, layers.empty() ? rgb.data() : all.data());
         }
     }
     std::string message = ok ? "" : out->geterror();
@@ -209,6 +225,11 @@ void checkImageWritable(const std::string& path) {
 }
 
 void writeImage(const std::string& path, int width, int height, const std::vector<float>& rgb) {
+    writeImage(path, width, height, rgb, {});
+}
+
+void writeImage(const std::string& path, int width, int height, const std::vector<float>& rgb,
+                const std::vector<ImageLayer>& layers) {
     ImageFormat format;
     try {
         format = imageFormatFor(path);
@@ -216,10 +237,12 @@ void writeImage(const std::string& path, int width, int height, const std::vecto
         throw std::runtime_error(e.what());
     }
     checkSize(path, width, height, rgb);
+    if (!layers.empty() && format != ImageFormat::Exr) fail(path, "extra layers (--aov) need an .exr file");
+    for (const ImageLayer& l : layers) checkSize(path, width, height, l.values);
     std::string tmp = temporaryPathFor(path);
     try {
         if (format == ImageFormat::Pfm) writePfm(tmp, width, height, rgb);
-        else writeWithOiio(tmp, format, width, height, rgb);
+        else writeWithOiio(tmp, format, width, height, rgb, layers);
         if (std::rename(tmp.c_str(), path.c_str()) != 0)
             throw std::runtime_error(std::string("cannot rename the temporary file into place: ") +
                                      std::strerror(errno));

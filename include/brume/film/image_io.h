@@ -6,6 +6,7 @@
 // (OpenImageIO 2.4 has no PFM writer). The same pixels give the same bytes: no dates.
 // Pixels are float RGB, row-major, top row first, 3·w·h values.
 #pragma once
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,18 @@ void checkImageWritable(const std::string& path);
 // place, so a half-written image never appears under `path`. Throws std::runtime_error
 // ("<path>: <problem>") on failure, after removing the temporary file.
 void writeImage(const std::string& path, int width, int height, const std::vector<float>& rgb);
+
+// An extra layer of an EXR file: channels "<name>.<channels[i]>" after R, G, B (Blender's
+// compositor shows it as a pass called name), 3 floats per pixel like rgb.
+struct ImageLayer {
+    std::string name;
+    std::array<std::string, 3> channels;
+    std::vector<float> values;
+};
+
+// writeImage with extra layers; EXR only (std::runtime_error naming the path otherwise).
+void writeImage(const std::string& path, int width, int height, const std::vector<float>& rgb,
+                const std::vector<ImageLayer>& layers);
 
 // Reads an .exr, .pfm or .png file as linear float RGB (PNG is decoded from sRGB; one channel
 // is replicated to three, alpha is dropped). Throws std::runtime_error on failure.

@@ -27,6 +27,9 @@ public:
     Bsdf(const Material& material, Spectrum baseColor, Vec3 ng, Vec3 ns);
 
     bool isSpecular() const { return kind_ == MaterialKind::Dielectric; }
+    // What a denoiser takes as the surface's colour (integrators/denoise_features.h): the base
+    // colour, or 1 for a smooth dielectric (glass), whose colour is what lies behind it.
+    Spectrum albedo() const { return isSpecular() ? Spectrum(1.0f) : baseColor_; }
     Spectrum eval(Vec3 wo, Vec3 wi) const;
     float pdf(Vec3 wo, Vec3 wi) const;
     // uLobe picks the lobe (diffuse vs glossy, reflect vs refract), u the direction.

@@ -18,7 +18,7 @@ import sys
 import bpy
 
 SCENES = ["fog_point", "spot_cube", "spot_wide", "sun_window", "area_fog", "glass_fog", "glow_box", "vdb_volume",
-          "fire_grid", "fire_smoke", "bad_volume"]
+          "fire_grid", "fire_smoke", "area_visible", "bad_volume"]
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
 
 
@@ -290,6 +290,13 @@ def build(name, o):
         light(sc, "disc", "AREA", (3.2, -0.5, 1.5), 150.0, (0.6, 0.8, 1.0), rot=(0, math.radians(60), 0),
               shape="DISK", size=0.6)
         camera(sc, (0, -6, 1.6), (0, 0, 1.0))
+    elif name == "area_visible":
+        # Fog that scatters backwards (g = -0.2) under an area light in the frame, seen from
+        # below and in front: Cycles 3.4 leaves the light itself out of camera rays.
+        world_volume(sc, ("principled", (0.9, 0.9, 0.9), 0.1, (0.0, 0.0, 0.0), -0.2))
+        plane("floor", 20, (0, 0, 0), grey)
+        light(sc, "panel", "AREA", (0.0, 0.5, 2.6), 300.0, shape="RECTANGLE", size=1.2, size_y=0.6)
+        camera(sc, (0, -5, 1.2), (0, 0, 1.8))
     elif name == "glass_fog":
         # A glass sphere in world fog, lit by a square area light (caustics through the glass).
         world_volume(sc, ("scatter", (1.0, 1.0, 1.0), 0.1, 0.0))

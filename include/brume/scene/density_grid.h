@@ -14,6 +14,11 @@
 // active voxels (and their bricks' surfaces), not with the size of the box. The brick table (4 bytes a brick) and the
 // majorants and means (8 bytes a brick) are dense over the box: for a 2048 × 1024 × 2048 box,
 // 100 MiB.
+//
+// Empty space: bricks group into regions of kRegion³ bricks (128³ voxels, the span of an
+// OpenVDB internal node), and the walk crosses a region none of whose bricks holds a non-zero
+// voxel in one step (one piece of majorant 0), so that a ray's work grows with the occupied
+// regions it meets and the optical depth it crosses, not with the empty box around them.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -29,6 +34,7 @@ struct DensityGrid {
     static constexpr int kApron = kBrick + 1;                   // voxels per axis a brick keeps
     static constexpr int kBrickVoxels = kApron * kApron * kApron;
     static constexpr uint32_t kEmptyBrick = ~0u;
+    static constexpr int kRegion = 16;  // bricks per region and axis
     int n[3] = {0, 0, 0};         // local box voxel counts (padding included)
     int origin[3] = {0, 0, 0};    // the index of local voxel (0, 0, 0): the active box's lo − 1
     int bn[3] = {0, 0, 0};        // bricks per axis
@@ -36,6 +42,9 @@ struct DensityGrid {
     std::vector<float> voxels;    // kBrickVoxels values per stored brick, x fastest
     std::vector<float> majorant;  // per brick, x fastest
     std::vector<float> mean;      // per brick: the mean of the voxels it mixes
+    int rn[3] = {0, 0, 0};          // regions per axis
+    std::vector<uint8_t> occupied;  // per region (x fastest): 1 if a brick in it is stored
+    size_t occupiedRegions = 0;
     double activeVoxels = 0;      // non-zero voxels of the source
     float maxValue = 0;
 
@@ -52,7 +61,8 @@ struct DensityGrid {
     template <class F>
     void build(const int lo[3], const int hi[3], F value);
     size_t memoryBytes() const {
-        return brick.size() * sizeof(uint32_t) + (voxels.size() + majorant.size() + mean.size()) * sizeof(float);
+        return brick.size() * sizeof(uint32_t) + (voxels.size() + majorant.size() + mean.size()) * sizeof(float) +
+               occupied.size();
     }
 
     // Voxel value at local integer coordinates (0 outside the box).
@@ -112,6 +122,15 @@ struct DensityGrid {
 
 private:
     int lo_[3] = {0, 0, 0}, hi_[3] = {-1, -1, -1};  // the active box (index space)
+
+    // The empty-region steps of forEachMajorant, kept out of its loop (density_grid.cpp):
+    // whether cell's region holds no stored brick; where the ray leaves that region (out: the
+    // axis of the face); and the cell beyond that face at t (false: past the box).
+    bool emptyRegion(const int cell[3]) const {
+        return !occupied[(size_t(cell[2] / kRegion) * rn[1] + cell[1] / kRegion) * rn[0] + cell[0] / kRegion];
+    }
+    [[gnu::noinline]] float regionExit(Vec3 q0, Vec3 dq, const int cell[3], const int step[3], int* out) const;
+    [[gnu::noinline]] bool enterAfterRegion(Vec3 q0, Vec3 dq, float t, int out, int cell[3], const int step[3]) const;
 };
 
 template <class F>
@@ -150,6 +169,9 @@ void DensityGrid::storeBrick(int bx, int by, int bz, F value) {
     brick[b] = uint32_t(slot);
     majorant[b] = m;
     mean[b] = float(sum / count);
+    uint8_t& region = occupied[(size_t(bz / kRegion) * rn[1] + by / kRegion) * rn[0] + bx / kRegion];
+    occupiedRegions += region == 0;
+    region = 1;
 }
 
 template <class F>
@@ -176,38 +198,54 @@ void DensityGrid::forEachMajorant(Vec3 q0, Vec3 dq, float t0, float t1, F f) con
         tb = std::min(tb, th);
     }
     if (!(ta < tb)) return;
-    // Amanatides–Woo over bricks from the entry point.
+    // Amanatides–Woo over bricks from the entry point; an empty region is crossed in one piece.
     int cell[3], step[3];
     float tNext[3], tDelta[3];
     const float B = float(kBrick);
     for (int a = 0; a < 3; ++a) {
         const float p = q0[a] + dq[a] * ta;
         cell[a] = std::min(std::max(int(std::floor(p / B)), 0), bn[a] - 1);
-        if (dq[a] > 0) {
-            step[a] = 1;
-            tNext[a] = ((cell[a] + 1) * B - q0[a]) / dq[a];
-            tDelta[a] = B / dq[a];
-        } else if (dq[a] < 0) {
-            step[a] = -1;
-            tNext[a] = (cell[a] * B - q0[a]) / dq[a];
-            tDelta[a] = -B / dq[a];
-        } else {
-            step[a] = 0;
-            tNext[a] = INFINITY;
-            tDelta[a] = INFINITY;
-        }
+        step[a] = dq[a] > 0 ? 1 : (dq[a] < 0 ? -1 : 0);
+        tDelta[a] = step[a] != 0 ? B / std::abs(dq[a]) : INFINITY;
     }
+    // The next brick face on each axis from the current cell.
+    auto faces = [&] {
+        for (int a = 0; a < 3; ++a)
+            tNext[a] = step[a] == 0 ? INFINITY : ((cell[a] + (step[a] > 0 ? 1 : 0)) * B - q0[a]) / dq[a];
+    };
+    faces();
     float t = ta;
+    // Whether the region of `cell` is empty: asked on entering a region only. (A grid without
+    // an empty region, most dense ones, skips the bookkeeping.)
+    const bool regions = occupiedRegions < occupied.size();
+    bool empty = regions && emptyRegion(cell);
     for (;;) {
-        const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-        const float tExit = std::min(tNext[a], tb);
-        const size_t b = (size_t(cell[2]) * bn[1] + cell[1]) * bn[0] + cell[0];
-        if (tExit > t && !f(t, tExit, majorant[b], mean[b])) return;
+        // One call of f per step, from a brick or, out of the cold helper, an empty region.
+        int a = 0, out = -1;
+        float tExit, m = 0, mn = 0;
+        if (empty) {
+            tExit = std::min(regionExit(q0, dq, cell, step, &out), tb);
+        } else {
+            a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+            tExit = std::min(tNext[a], tb);
+            const size_t b = (size_t(cell[2]) * bn[1] + cell[1]) * bn[0] + cell[0];
+            m = majorant[b];
+            mn = mean[b];
+        }
+        if (tExit > t && !f(t, tExit, m, mn)) return;
         if (tExit >= tb) return;
         t = tExit;
+        if (empty) {
+            if (out < 0 || !enterAfterRegion(q0, dq, t, out, cell, step)) return;
+            faces();
+            empty = emptyRegion(cell);
+            continue;
+        }
         cell[a] += step[a];
         if (cell[a] < 0 || cell[a] >= bn[a]) return;
         tNext[a] += tDelta[a];
+        // A new region along a: (cell mod kRegion) wrapped round.
+        if (regions && unsigned(cell[a]) % kRegion == (step[a] > 0 ? 0u : unsigned(kRegion - 1))) empty = emptyRegion(cell);
     }
 }
 

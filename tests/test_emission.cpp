@@ -9,7 +9,8 @@
 //   - an absorbing, emitting sphere seen from inside with black walls:
 //     L = e/σa·(1 − exp(−σa·d));
 //   - next-event estimation towards emissive media: its point sampler by chi-square, its MIS
-//     weights summing to one, and pt with it against pt without it.
+//     weights summing to one, its point density the gathering's (the strata), and pt with it
+//     against pt without it.
 // Statistical checks: fixed seeds, per-pixel or per-block standard errors, the z bound stated
 // with each; medians and maxima too.
 #include <catch2/catch.hpp>
@@ -21,6 +22,7 @@
 
 #include "brume/integrators/bdpt.h"
 #include "brume/math/blackbody.h"
+#include "brume/integrators/path_stats.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/integrators/volume_light_sampling.h"
 #include "brume/scene/density_grid.h"
@@ -348,6 +350,59 @@ Agreement agreement(const Scene& scene, Integrator& a, int sppA, Integrator& b, 
             r.perSampleB += y[i].stderror(c) * std::sqrt(double(sppB));
         }
     return r;
+}
+
+TEST_CASE("volume lights: next-event estimation and the gathering agree on the point density", "[emission][mis]") {
+    // The MIS weights compare p_n(y) with the gathering's p_dir/(ℓ·t²): both strategies must
+    // use the same ℓ, the length of y's stratum along the ray x → y (1/8 of the ray's interval
+    // in y's brick for a blackbody, the whole interval otherwise), and the same brick. From
+    // the camera of glow_in_fog.gltf, next-event estimation draws y; the gathering along the
+    // same ray must report, for its point in y's brick, that ℓ (and only that brick at that ℓ).
+    for (bool blackbody : {false, true}) {
+        SceneDescription desc = loadGltf(std::string(BRUME_TEST_DATA) + "/glow_in_fog.gltf");
+        for (Medium& m : desc.media)
+            if (m.emissionGrid.grid && blackbody) {
+                m.blackbody = true;
+                m.emission = Spectrum(1.0f);
+                m.emissionGrid.scale = 500.0f;
+            }
+        Scene scene(std::move(desc));
+        REQUIRE(!scene.volumeLights().empty());
+        const Vec3 x = scene.camera().generateRay(16.0f, 12.0f, 32, 24).o;
+        int checked = 0;
+        for (uint64_t pass = 0; pass < 64; ++pass) {
+            Sampler sampler(3, 0, pass);
+            PathStats stats;
+            VolumeLightConnection c;
+            if (!connectVolumeLight(scene, x, Vec3(0.0f), scene.cameraMedia(), sampler, 0, stats, &c)) continue;
+            const int mi = [&] {
+                for (int i = 0; i < int(scene.desc().media.size()); ++i)
+                    if (scene.volumeLights().samples(i)) return i;
+                return -1;
+            }();
+            const Medium& m = *scene.medium(mi);
+            const Vec3 y = x + c.wi * c.dist;
+            const size_t brick = m.emissionGrid.grid->brickAt(m.emissionGrid.worldToLocal.point(y));
+            std::vector<float> lengths;
+            const Medium::PointWeight record = [&](float, size_t b, float length) {
+                if (b == brick) lengths.push_back(length);
+                return 1.0f;
+            };
+            // (The weight is asked for points that emit: a few estimates, so that some do.)
+            size_t most = 0;
+            for (float u : {0.1f, 0.3f, 0.5f, 0.7f, 0.9f}) {
+                const size_t before = lengths.size();
+                m.emitted(Ray{x, c.wi}, 0.0f, c.dist * 2, u, &record);
+                most = std::max(most, lengths.size() - before);
+            }
+            INFO("blackbody " << blackbody << " pass " << pass << ": stratum " << c.stratumLength);
+            REQUIRE(!lengths.empty());
+            for (float l : lengths) CHECK(l == Approx(c.stratumLength).epsilon(1e-5));
+            CHECK(most <= size_t(m.emissionStrata()));
+            ++checked;
+        }
+        CHECK(checked > 20);
+    }
 }
 
 TEST_CASE("volume lights: pt with them matches pt without them, and bdpt with them matches pt", "[emission][oracle]") {

@@ -6,7 +6,8 @@
 #
 # Names: fog_point, spot_cube, spot_wide, sun_window, area_fog, glass_fog, glow_box, vdb_volume,
 # fire_grid (the round-trip scenes), fire_smoke (fire_grid without its lamp: the fire alone
-# lights the smoke; for equal-time measurements, docs/results.md) and
+# lights the smoke; for equal-time measurements, docs/results.md), area_visible (an area light
+# in the frame over back-scattering fog: a measured difference, docs/blender.md) and
 # bad_volume (an unsupported volume node: the bad-input test). Without names: all of them.
 # Every scene is set up for a comparison with brume: Cycles with a box pixel filter 1 px wide,
 # every bounce type at max_bounces, no clamping, no light threshold, no adaptive sampling, no

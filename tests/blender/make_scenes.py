@@ -167,6 +167,21 @@ def volume_material(name, spec):
     return m
 
 
+def volume_object(sc, name, vdb, scale, location, mat):
+    """A Volume object of tests/data/<vdb>, uniformly scaled, with a heterogeneous volume
+    material; Cycles ray-marches it a tenth of a voxel a step."""
+    vol = bpy.data.volumes.new(name)
+    vol.filepath = os.path.join(DATA, vdb)
+    obj = bpy.data.objects.new(name, vol)
+    sc.collection.objects.link(obj)
+    obj.scale = (scale, scale, scale)
+    obj.location = location
+    mat.cycles.homogeneous_volume = False
+    obj.data.materials.append(mat)
+    sc.cycles.volume_step_rate = 0.1
+    return obj
+
+
 def link(obj, mat=None, name=None):
     if name:
         obj.name = name
@@ -321,16 +336,8 @@ def build(name, o):
         # grid, under a point light. Cycles ray-marches it: a step of a tenth of a voxel.
         black_world(sc)
         plane("floor", 20, (0, 0, 0), grey)
-        vol = bpy.data.volumes.new("gradient_smoke")
-        vol.filepath = os.path.join(DATA, "gradient.vdb")
-        obj = bpy.data.objects.new("gradient_smoke", vol)
-        sc.collection.objects.link(obj)
-        obj.scale = (0.3, 0.3, 0.3)
-        obj.location = (0.0, 0.0, 2.2)
-        m = volume_material("smoke", ("principled", (0.8, 0.8, 0.8), 1.5, (0.0, 0.0, 0.0), 0.3))
-        m.cycles.homogeneous_volume = False
-        obj.data.materials.append(m)
-        sc.cycles.volume_step_rate = 0.1
+        volume_object(sc, "gradient_smoke", "gradient.vdb", 0.3, (0.0, 0.0, 2.2),
+                      volume_material("smoke", ("principled", (0.8, 0.8, 0.8), 1.5, (0.0, 0.0, 0.0), 0.3)))
         light(sc, "lamp", "POINT", (1.5, -1.5, 3.5), 500.0)
         camera(sc, (0, -7, 2.0), (0, 0, 1.4))
     elif name in ("fire_grid", "fire_smoke"):
@@ -340,19 +347,12 @@ def build(name, o):
         # grid: up to 3000 K). Cycles ray-marches it, a tenth of a voxel a step.
         black_world(sc)
         plane("floor", 20, (0, 0, 0), grey)
-        vol = bpy.data.volumes.new("fire")
-        vol.filepath = os.path.join(DATA, "fire.vdb")
-        obj = bpy.data.objects.new("fire", vol)
-        sc.collection.objects.link(obj)
-        obj.scale = (1.5, 1.5, 1.5)
         m = volume_material("flame", ("principled", (0.5, 0.5, 0.5), 1.0, (0.0, 0.0, 0.0), 0.2))
         p = m.node_tree.nodes["Principled Volume"]
         p.inputs["Blackbody Intensity"].default_value = 1.0
         p.inputs["Temperature"].default_value = 1500.0
         p.inputs["Temperature Attribute"].default_value = "temperature"
-        m.cycles.homogeneous_volume = False
-        obj.data.materials.append(m)
-        sc.cycles.volume_step_rate = 0.1
+        volume_object(sc, "fire", "fire.vdb", 1.5, (0.0, 0.0, 0.0), m)
         # A point light too: the smoke's light from the fire alone is sparse in Cycles (it does
         # not sample volume emission as a light: a pixel of thin smoke is 0 but for a rare
         # scattered ray that finds the flame), too heavy-tailed at 128 spp for the block test.

@@ -180,3 +180,24 @@ TEST_CASE("mpi: a build without MPI refuses to run as one of several processes",
     CHECK(r.code == 0);
     CHECK(fs::exists(out));
 }
+
+TEST_CASE("mpi: the scene's warnings are printed once, by rank 0", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    std::string text = readFile(std::string(BRUME_TEST_DATA) + "/bad/valid_base.gltf");
+    const std::string name = "\"name\": \"fog\",";
+    REQUIRE(text.find(name) != std::string::npos);
+    text.replace(text.find(name), name.size(), name + " \"emision\": [1, 1, 1],");
+    writeFile(dir / "misspelt.gltf", text);
+    Run r = shell(mpirun(3) + quote(BRUME_EXE) + " render " + quote(dir / "misspelt.gltf") + " --res 16x12 --spp 2 --threads 1 -o " +
+                  quote(dir / "out.exr"));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string warning = "unknown field \"emision\"";
+    const size_t first = r.err.find(warning);
+    CHECK(first != std::string::npos);
+    CHECK(r.err.find(warning, first + 1) == std::string::npos);
+}

@@ -434,7 +434,7 @@ int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv
     const bool lead = group.rank() == 0;
     std::exception_ptr setupError;
     try {
-        SceneDescription desc = loadSceneDescription(a.scene);
+        SceneDescription desc = loadSceneDescription(a.scene, lead);  // (warnings once, from rank 0)
         // The scene's BRUME_render settings stand in for the options not given.
         if (a.res.width == 0 && desc.render.width > 0) a.res = Resolution{desc.render.width, desc.render.height};
         if (!a.sppGiven && a.seconds <= 0 && desc.render.spp > 0) a.spp = desc.render.spp;

@@ -7,9 +7,10 @@
 
 namespace brume::cli {
 
-SceneDescription loadSceneDescription(const std::string& path) {
+SceneDescription loadSceneDescription(const std::string& path, bool printWarnings) {
     SceneDescription desc = loadGltf(path);
-    for (const std::string& w : desc.warnings) std::fprintf(stderr, "brume: warning: %s\n", w.c_str());
+    if (printWarnings)
+        for (const std::string& w : desc.warnings) std::fprintf(stderr, "brume: warning: %s\n", w.c_str());
     return desc;
 }
 

@@ -15,8 +15,9 @@ int runRender(const std::vector<std::string>& args);
 int runRaybench(const std::vector<std::string>& args);
 int runBench(const std::vector<std::string>& args);
 
-// Shared by the commands (scene_setup.cpp): loads a glTF file (SceneError on failure).
-SceneDescription loadSceneDescription(const std::string& path);
+// Shared by the commands (scene_setup.cpp): loads a glTF file (SceneError on failure) and
+// prints its warnings on stderr (not on MPI ranks other than 0: printWarnings false).
+SceneDescription loadSceneDescription(const std::string& path, bool printWarnings = true);
 // The image size: `requested` if set (width > 0), else 640 wide with the camera's aspect
 // ratio (640x480 when the camera has none). Throws std::runtime_error if the camera's
 // aspect ratio asks for an image beyond the limits.

@@ -880,7 +880,8 @@ def export_scene(filepath, context=None, report=None):
                         "following a grid" % obj.name)
         # Cycles' render space "Object" (the default): densities and emission per unit of the
         # object's space, scaled by 1/|M (1, 1, 1)/sqrt(3)|, M the object's world matrix.
-        ds = volume_density_scale([list(r)[:3] for r in obj.matrix_world[:3]], vol.render.space)
+        space = getattr(getattr(vol, "render", None), "space", "OBJECT")
+        ds = volume_density_scale([list(r)[:3] for r in obj.matrix_world[:3]], space)
         if ds != 1.0:
             m = scale_medium(m, ds)
         mi = add_medium(mat.name + "@" + obj.name, m, {"uri": uri, "grid": grid, "scale": 1.0})

@@ -51,9 +51,12 @@ public:
         if (options.timeBudget > 0)
             std::fprintf(stderr, "\r[%s] %3d%%  %d passes  %.1f / %.1f s ", bar, int(fraction * 100), passesDone,
                          seconds, options.timeBudget);
+        else if (fraction > 0 && fraction < 1)  // the time left at this pace
+            std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %.1f s, about %.0f s left ", bar, int(fraction * 100),
+                         passesDone, options.spp, seconds, seconds * (1 - fraction) / fraction);
         else
-            std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %.1f s ", bar, int(fraction * 100), passesDone,
-                         options.spp, seconds);
+            std::fprintf(stderr, "\r[%s] %3d%%  pass %d/%d  %.1f s              ", bar, int(fraction * 100),
+                         passesDone, options.spp, seconds);
         std::fflush(stderr);
         shown_ = true;
     }

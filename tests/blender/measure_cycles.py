@@ -10,7 +10,8 @@
 # pixel (the ratio is 1 if the formula is Cycles'). Volumes: the camera looks through a 1 m
 # slab of medium at an emissive plane (strength 1 for camera rays only, 0 for rays scattered in
 # the slab, and not sampled as a light: no scattered light reaches the camera), so a pixel is exp(-sigma_t * 1 m): the measured
-# extinction is -ln(pixel).
+# extinction is -ln(pixel). Blackbody: the Blackbody node's colour as the world's background,
+# and the Principled Volume's blackbody emission through a 1 m slab of density 0.
 import json
 import math
 import os
@@ -146,6 +147,36 @@ def link_volume(kind, **inputs):
     return b
 
 
+def blackbody_node(kelvin):
+    """The world's background of colour Blackbody(T), strength 1, seen by the camera: the pixel is
+    the node's colour (which it clips to >= 0)."""
+    sc = base(samples=1)
+    nt = sc.world.node_tree
+    bb = nt.nodes.new("ShaderNodeBlackbody")
+    bb.inputs[0].default_value = kelvin
+    nt.links.new(bb.outputs[0], nt.nodes["Background"].inputs["Color"])
+    nt.nodes["Background"].inputs["Strength"].default_value = 1.0
+    return [float(x) for x in render(sc).reshape(-1, 3).mean(axis=0)]
+
+
+def blackbody_volume(kelvin, intensity, tint):
+    """A 1 m slab of Principled Volume with density 0 and blackbody emission, seen straight
+    through: the pixel is e x 1 m (negative where Cycles' colour is out of gamut)."""
+    sc = base(samples=4)
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0, 0, 0.5), scale=(10, 10, 1))
+    def b(nt, out):
+        p = nt.nodes.new("ShaderNodeVolumePrincipled")
+        p.inputs["Density"].default_value = 0.0
+        p.inputs["Blackbody Intensity"].default_value = intensity
+        p.inputs["Temperature"].default_value = kelvin
+        p.inputs["Blackbody Tint"].default_value = tuple(tint) + (1,)
+        nt.links.new(p.outputs[0], out.inputs["Volume"])
+    m = shader_material("bb", b)
+    m.cycles.homogeneous_volume = True
+    bpy.context.object.data.materials.append(m)
+    return [float(x) for x in render(sc).reshape(-1, 3).mean(axis=0)]
+
+
 def main():
     out = sys.argv[sys.argv.index("--") + 1]
     res = {"blender": bpy.app.version_string, "pixels": N}
@@ -184,6 +215,14 @@ def main():
     bpy.context.object.data.materials.append(shader_material("emit", em))
     res["emission"] = {"color": (1.0, 0.5, 0.25), "strength": 2.5,
                        "pixel": [float(x) for x in render(sc).reshape(-1, 3).mean(axis=0)]}
+    # Blackbody (tests/test_blackbody.cpp keeps these numbers).
+    res["blackbody"] = {
+        "node": [{"kelvin": T, "pixel": blackbody_node(T)}
+                 for T in (800, 900, 1000, 1200, 1500, 2000, 2500, 3000, 4000, 5000, 6500, 8000, 10000, 12000, 15000)],
+        "volume": [{"kelvin": T, "intensity": b, "tint": t, "pixel": blackbody_volume(T, b, t)}
+                   for T, b, t in ((1000, 1.0, (1, 1, 1)), (1500, 1.0, (1, 1, 1)), (2500, 1.0, (1, 1, 1)),
+                                   (4000, 1.0, (1, 1, 1)), (1500, 0.5, (1, 1, 1)), (2500, 0.25, (1, 0.5, 0.25)))],
+    }
     with open(out, "w") as f:
         json.dump(res, f)
     print("measure_cycles: wrote " + out)

@@ -27,7 +27,13 @@ Feature firstHit(const Scene& scene, const Ray& ray, PathStats& stats) {
         if (piece.medium && maxComponent(piece.medium->sigmaT()) > 0) {
             // Its expected share: collisions in this piece, 1 − T over it.
             const Spectrum st = piece.medium->sigmaT(), ss = piece.medium->sigmaS;
-            const Spectrum Tp = std::isinf(piece.t1) ? Spectrum(0.0f) : piece.medium->transmittance(ray, piece.t0, piece.t1);
+            // (A homogeneous piece to infinity: met surely in every channel that has extinction.
+            // A grid medium's ends where the ray leaves its grid.)
+            Spectrum Tp;
+            if (std::isinf(piece.t1) && !piece.medium->heterogeneous())
+                for (int c = 0; c < 3; ++c) Tp[c] = st[c] > 0 ? 0.0f : 1.0f;
+            else
+                Tp = piece.medium->transmittance(ray, piece.t0, piece.t1);
             float meet = 0;
             for (int c = 0; c < 3; ++c) {
                 const float m = T[c] * (1 - Tp[c]);

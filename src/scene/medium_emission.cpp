@@ -22,7 +22,8 @@
 // brick a flame's hot voxels were a rare, heavy tail (test_emission's blackbody ray: one
 // estimate's spread 1.6× the mean and the largest of 4000 estimates 9× it; with 8 strata
 // 0.8× and 4×). Emission linear in a smooth grid gains nothing from them: the campfire at
-// equal time with 8 strata took 6 % longer per sample, its relative variance no lower. T̂ is exact in a homogeneous medium; in a grid it is one ratio-tracking
+// equal time with 8 strata took 6 % longer per sample, its relative variance no lower.
+// T̂ is exact in a homogeneous medium; in a grid it is one ratio-tracking
 // walk, whose running product Π_j (1 − σt(x_j)/μ̄) over the tentative collisions x_j < t_i
 // estimates T(t0, t_i) for every t_i at once, with the roulette of Medium::transit.
 #include <cmath>

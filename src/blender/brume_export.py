@@ -651,15 +651,14 @@ def volume_density_scale(matrix3, space):
     return 1.0 / n if n > 0 else 1.0
 
 
-def _volume_grid_names(vol):
+def _volume_grids(vol):
+    """A Volume's grids by name: their 4x4 index-to-object matrices (rows); none if the file
+    cannot be read (the callers warn or go without)."""
     try:
         vol.grids.load()
-    except Exception:  # noqa: BLE001 (an unreadable file: no names, the caller warns)
-        pass
-    try:
-        return {g.name for g in vol.grids}
+        return {g.name: [list(r) for r in g.matrix_object] for g in vol.grids}
     except Exception:  # noqa: BLE001
-        return set()
+        return {}
 
 
 def _volume_blackbody_grid(vol, m, uri, obj, report):
@@ -668,7 +667,7 @@ def _volume_blackbody_grid(vol, m, uri, obj, report):
     bb = m.get("blackbody")
     if not bb or not bb["attribute"]:
         return None
-    if bb["attribute"] not in _volume_grid_names(vol):
+    if bb["attribute"] not in _volume_grids(vol):
         report.warn("volume object '%s': no grid '%s' for the blackbody's temperature: %g K everywhere"
                     % (obj.name, bb["attribute"], bb["temperature"]))
         return None
@@ -691,17 +690,6 @@ def half_voxel_offset(grid_matrix):
     object space (grid_matrix: the grid's 4x4 index-to-object matrix, rows). Measured on the
     vdb_volume round trip: without it brume's cloud sat half a voxel low and to the left."""
     return tuple(0.5 * (grid_matrix[r][0] + grid_matrix[r][1] + grid_matrix[r][2]) for r in range(3))
-
-
-def _grid_matrix(vol, name):
-    try:
-        vol.grids.load()
-        for g in vol.grids:
-            if g.name == name:
-                return [list(r) for r in g.matrix_object]
-    except Exception:  # noqa: BLE001 (unreadable: no offset)
-        pass
-    return None
 
 
 def _object_of_node(node):
@@ -889,7 +877,7 @@ def export_scene(filepath, context=None, report=None):
         # bounds grown by two voxels a side, so that it holds the trilinear fall-off beyond the
         # outermost voxels wherever the half voxel puts them (outside the grid the medium is
         # empty: a larger box changes nothing else).
-        gm = _grid_matrix(vol, grid)
+        gm = _volume_grids(vol).get(grid)
         off = half_voxel_offset(gm) if gm else (0.0, 0.0, 0.0)
         pad = [2.0 * sum(abs(gm[r][c]) for c in range(3)) if gm else 0.0 for r in range(3)]
         bb = [tuple(v) for v in obj.bound_box]

@@ -127,7 +127,7 @@ TEST_CASE("checkpoint: every truncation and every flipped byte is an error", "[c
     std::string version = good;
     version[8] = 2;  // a checkpoint from before the sums were exact
     writeFile(bad, version);
-    CHECK_THROWS_WITH(readCheckpoint(bad), Catch::Contains("checkpoint version 2, this brume reads version 3"));
+    CHECK_THROWS_WITH(readCheckpoint(bad), Catch::Contains("checkpoint version 2, this brume reads versions 3 and 4"));
     CHECK_THROWS_WITH(readCheckpoint(dir / "missing.ckpt"), Catch::Contains("missing.ckpt"));
     CHECK_THROWS_WITH(readCheckpoint(dir.path().string()), Catch::Contains("directory"));
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -112,10 +113,21 @@ struct RenderArgs {
     double checkpointEvery = 60;  // seconds
     bool checkpointEveryGiven = false;
     double writeEvery = 0;        // --write-every SECONDS (0: only at the end)
+    double noiseThreshold = 0;    // --noise-threshold E (0: off)
     bool aovAlbedo = false, aovNormal = false;  // --aov
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
 };
+
+// The most passes adaptive stopping renders when neither --spp nor --time bounds it.
+constexpr int kAdaptiveMaxSpp = 1024;
+
+// A number as a checkpoint setting: every digit it has.
+std::string numberText(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
 
 const char* const kRenderDescription =
     "Renders a glTF scene and writes OUT (.exr: float linear RGB, .pfm: float linear RGB,\n"
@@ -241,6 +253,13 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   a.checkpointEvery = parsePositiveSeconds("--checkpoint-every", v, 1e7);
                   a.checkpointEveryGiven = true;
               });
+    addOption(app, "--noise-threshold", "E",
+              "adaptive sampling: stop each pixel once its estimated relative error (as bench's relative MSE "
+              "weighs errors, square-rooted) is at most E, after 16 passes, and the render once every pixel has; "
+              "--spp or --time bound it (default: at most " + std::to_string(kAdaptiveMaxSpp) + " spp); docs/adaptive-sampling.md",
+              [&](const std::string& v) {
+                  a.noiseThreshold = parsePositiveNumber("--noise-threshold", v, 1e6);
+              });
     addOption(app, "--write-every", "SECONDS",
               "also write OUT every SECONDS while rendering, the image of the passes so far (beside OUT and "
               "renamed into place), to watch a long render; the final image is the same",
@@ -288,6 +307,11 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     if (a.guidedDistances >= 0 && !(a.guiding && a.integrator == "pt"))
         throw UsageError("--guided-distances needs --integrator pt --guiding on");
     if (a.sppGiven && a.seconds > 0) throw UsageError("--spp and --time exclude each other");
+    if (a.noiseThreshold > 0 && !a.sppGiven && a.seconds <= 0) {
+        a.spp = kAdaptiveMaxSpp;
+        a.sppGiven = true;  // (the scene's spp does not stand in: the threshold ends the render)
+    }
+    if (a.noiseThreshold > 0 && !a.strategyDir.empty()) throw UsageError("--strategy-images and --noise-threshold exclude each other");
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
     // Checkpoints are for a planned number of passes: a time budget has no fixed end to resume to.
@@ -397,6 +421,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
     settings.insert(settings.end(), options.begin(), options.end());
+    if (a.noiseThreshold > 0) settings.push_back({"--noise-threshold", numberText(a.noiseThreshold)});
     return settings;
 }
 
@@ -508,6 +533,14 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
                 a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
+    if (a.noiseThreshold > 0 && film.tracksNoise()) {
+        double mean = 0;
+        for (int32_t n : film.sampleCounts()) mean += n;
+        mean /= double(film.sampleCounts().size());
+        std::printf("adaptive: %.1f spp on average, %d of %d pixels still going on, estimated relative error %.3g "
+                    "(threshold %g)\n",
+                    mean, stats.activePixels, res.width * res.height, std::sqrt(stats.estimatedRelMse), a.noiseThreshold);
+    }
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
     if (a.stats && guide) std::printf("%s", guide->report().text().c_str());
@@ -537,6 +570,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     const bool lead = group.rank() == 0;
     if (group.distributed() && !a.strategyDir.empty())
         throw UsageError("--strategy-images needs a single process (not mpirun)");
+    if (group.distributed() && a.noiseThreshold > 0)
+        throw UsageError("--noise-threshold needs a single process (not mpirun): pixels stop after every pass");
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {
@@ -615,6 +650,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     options.sampler = a.sampler;
     options.threads = a.threads;
     options.progress = ::isatty(2) != 0;
+    options.noiseThreshold = a.noiseThreshold;
 
     // Periodic checkpoints and images (--write-every) between passes; the state and image at
     // the end are written below. A failed periodic write is a warning: the render goes on and
@@ -693,7 +729,9 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     // The image is written even if the checkpoint cannot be, then the checkpoint's error is
     // reported. A complete render needs no checkpoint any more.
     std::exception_ptr checkpointError;
-    const bool complete = a.seconds > 0 || film.passes() >= a.spp;
+    // (Adaptive stopping ends a render early once every pixel reached the threshold.)
+    const bool converged = a.noiseThreshold > 0 && !gInterrupted.load() && stats.passes > 0 && stats.activePixels == 0;
+    const bool complete = a.seconds > 0 || film.passes() >= a.spp || converged;
     if (!a.checkpoint.empty() && !complete) {
         try {
             writeCheckpoint(a.checkpoint, scenePath, settings, film, nonFinite, integrator.saveState());

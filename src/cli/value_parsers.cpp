@@ -31,7 +31,7 @@ uint64_t parseUnsigned64(const std::string& what, const std::string& text) {
     return v;
 }
 
-double parsePositiveSeconds(const std::string& what, const std::string& text, double hi) {
+double parsePositiveNumber(const std::string& what, const std::string& text, double hi) {
     const char* s = text.c_str();
     char* end = nullptr;
     errno = 0;
@@ -41,6 +41,10 @@ double parsePositiveSeconds(const std::string& what, const std::string& text, do
     if (!(v > 0) || v > hi) throw UsageError(what + ": " + text + " must be greater than 0 and at most " +
                                              std::to_string(int64_t(hi)));
     return v;
+}
+
+double parsePositiveSeconds(const std::string& what, const std::string& text, double hi) {
+    return parsePositiveNumber(what, text, hi);
 }
 
 namespace {

@@ -326,6 +326,12 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     return L;
 }
 
+bool BdptIntegrator::learning(int pass) const {
+    if (options_.guiding && pathTracer_.learning(pass)) return true;
+    if (direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass)) return true;
+    return planner_ && !planner_->decided();
+}
+
 void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
     if (options_.guiding) pathTracer_.endPass(scene, summary);  // training, then the noise of the passes after it
     if (guideTraining_) return;

@@ -169,8 +169,13 @@ void writeCheckpoint(const std::string& path, const std::string& scenePath, cons
     w.i32(film.passes());
     w.u64(nonFinite);
     w.u8(film.hasSplats() ? 1 : 0);
+    w.u8(film.tracksNoise() ? 1 : 0);
     w.u64(integratorState.size());
     w.sums(film.sums());
+    if (film.tracksNoise()) {
+        for (int32_t n : film.sampleCounts()) w.i32(n);
+        w.sums(film.squares());
+    }
     w.bytes(integratorState.data(), integratorState.size());
     w.u64(w.hash());
 
@@ -199,8 +204,8 @@ Checkpoint readCheckpoint(const std::string& path) {
     r.bytes(magic, sizeof magic);
     if (std::memcmp(magic, kMagic, sizeof magic) != 0) fail(path, "not a brume checkpoint");
     uint32_t version = r.u32();
-    if (version != kCheckpointVersion)
-        fail(path, "checkpoint version " + std::to_string(version) + ", this brume reads version " +
+    if (version != kCheckpointVersion && version != 3)
+        fail(path, "checkpoint version " + std::to_string(version) + ", this brume reads versions 3 and " +
                        std::to_string(kCheckpointVersion));
     std::string scenePath = r.str();
     uint32_t count = r.u32();
@@ -213,25 +218,37 @@ Checkpoint readCheckpoint(const std::string& path) {
     int32_t width = r.i32(), height = r.i32(), passes = r.i32();
     uint64_t nonFinite = r.u64();
     uint8_t hasSplats = r.u8();
+    uint8_t tracksNoise = version >= 4 ? r.u8() : 0;
     uint64_t stateBytes = r.u64();
-    if (width <= 0 || height <= 0 || passes < 0 || hasSplats > 1)
+    if (width <= 0 || height <= 0 || passes < 0 || hasSplats > 1 || tracksNoise > 1)
         fail(path, "corrupt checkpoint (film " + std::to_string(width) + "x" + std::to_string(height) + ", " +
                        std::to_string(passes) + " passes)");
     // The rest must be exactly the sums and the checksum: checked before allocating, so a
     // damaged header cannot ask for gigabytes.
     const uint64_t values = 3 * uint64_t(width) * uint64_t(height);
-    const uint64_t expected = 16 * values + 8;
+    const uint64_t expected = 16 * values + (tracksNoise ? 4 * (values / 3) + 16 * values : 0) + 8;
     if (stateBytes > r.remaining()) fail(path, "truncated checkpoint");
     if (r.remaining() - stateBytes != expected)
         fail(path, r.remaining() - stateBytes < expected ? "truncated checkpoint" : "corrupt checkpoint (trailing bytes)");
     std::vector<Film::Sum> sums = r.sums(size_t(values));
+    std::vector<int32_t> samples;
+    std::vector<Film::Sum> squares;
+    if (tracksNoise) {
+        samples.resize(size_t(values / 3));
+        for (int32_t& n : samples) n = r.i32();
+        squares = r.sums(size_t(values));
+    }
     std::string state(size_t(stateBytes), '\0');
     r.bytes(state.data(), state.size());
     const uint64_t computed = r.hash();
     if (r.u64() != computed) fail(path, "corrupt checkpoint (checksum mismatch)");
 
     Film film(width, height);
-    film.restore(passes, std::move(sums), hasSplats != 0);
+    try {
+        film.restore(passes, std::move(sums), hasSplats != 0, std::move(samples), std::move(squares));
+    } catch (const std::invalid_argument& e) {
+        fail(path, std::string("corrupt checkpoint (") + e.what() + ")");
+    }
     return Checkpoint{std::move(scenePath), std::move(settings), nonFinite, std::move(film), std::move(state)};
 }
 

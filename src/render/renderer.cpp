@@ -1,5 +1,6 @@
 #include "brume/render/renderer.h"
 
+#include "brume/film/pixel_noise.h"
 #include "brume/integrators/sample_dimensions.h"
 
 #include <pmmintrin.h>
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <exception>
@@ -40,8 +42,21 @@ struct alignas(64) TileCounters {
 class ProgressBar {
 public:
     explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+    // With a noise threshold: the estimated relative error now (√ of the mean e²) and the
+    // share of pixels still going on, shown after the bar.
+    void setNoise(double error, double activeShare) {
+        noise_ = error;
+        activeShare_ = activeShare;
+    }
     void show(double fraction, int passesDone, const RenderOptions& options, double seconds) {
         if (!enabled_) return;
+        if (options.noiseThreshold > 0 && noise_ >= 0) {
+            std::fprintf(stderr, "\r[noise %.3g / %.3g, %3.0f%% of pixels going on]  pass %d  %.1f s ", noise_,
+                         options.noiseThreshold, 100 * activeShare_, passesDone, seconds);
+            std::fflush(stderr);
+            shown_ = true;
+            return;
+        }
         fraction = std::clamp(fraction, 0.0, 1.0);
         constexpr int kWidth = 30;
         int filled = int(fraction * kWidth);
@@ -67,6 +82,7 @@ public:
 private:
     bool enabled_;
     bool shown_ = false;
+    double noise_ = -1, activeShare_ = 1;
 };
 
 // The worker pool for one render() call.
@@ -98,10 +114,13 @@ public:
     int tileCount() const { return tilesX_ * tilesY_; }
     int tilesDone() const { return tilesDone_.load(std::memory_order_relaxed); }
 
-    // Starts pass `pass` on all workers and returns at once.
-    void startPass(int pass) {
+    // Starts pass `pass` on all workers and returns at once; `active` (null: every pixel)
+    // names the pixels that take part, `activeCount` of them.
+    void startPass(int pass, const std::vector<uint8_t>* active, int activeCount) {
         integrator_.beginPass(scene_, pass);
         std::lock_guard<std::mutex> lock(mutex_);
+        active_ = active;
+        activeCount_ = activeCount;
         pass_ = pass;
         passSampler_ = integrator_.samplerFor(pass, options_.sampler);
         passIndex_ = integrator_.sequenceIndexFor(pass, passSampler_);
@@ -128,7 +147,9 @@ public:
         if (complete) {
             const int width = options_.width;
             for (int y = 0; y < options_.height; ++y)
-                for (int x = 0; x < width; ++x) film_.add(x, y, radiance_[size_t(y) * size_t(width) + size_t(x)]);
+                for (int x = 0; x < width; ++x)
+                    if (!active_ || (*active_)[size_t(y) * size_t(width) + size_t(x)])
+                        film_.add(x, y, radiance_[size_t(y) * size_t(width) + size_t(x)]);
             for (const TileCounters& c : tileCounters_) {
                 stats.samples += c.samples;
                 stats.nonFinite += c.nonFinite;
@@ -143,11 +164,24 @@ public:
             summary.splats = tileSplats_.data();
             summary.splatLists = int(tileSplats_.size());
         }
-        for (SplatList& list : tileSplats_) {
-            if (complete) {
-                film_.mergeSplats(list);
+        if (complete) {
+            if (film_.tracksNoise()) passTotal_ = radiance_;
+            // Each pixel that took part traced one light subpath: their splats estimate the
+            // image scaled by the share that did (1 while every pixel takes part).
+            const float scale = active_ ? float(double(options_.width) * double(options_.height) / activeCount_) : 1.0f;
+            for (SplatList& list : tileSplats_) {
                 stats.nonFinite += list.nonFinite();
+                for (const SplatList::Record& r : list.records()) {
+                    const size_t i = size_t(r.y) * size_t(options_.width) + size_t(r.x);
+                    if (active_ && !(*active_)[i]) continue;
+                    const Spectrum value = active_ ? r.value * scale : r.value;
+                    film_.splat(r.x, r.y, value);
+                    if (film_.tracksNoise()) passTotal_[i] += value;
+                }
             }
+            if (film_.tracksNoise())
+                for (size_t i = 0; i < passTotal_.size(); ++i)
+                    if (!active_ || (*active_)[i]) film_.addPassValue(i, passTotal_[i]);
         }
         integrator_.endPass(scene_, summary);
         for (SplatList& list : tileSplats_) list.clear();
@@ -203,6 +237,10 @@ private:
         counters = TileCounters();
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) {
+                if (active_ && !(*active_)[size_t(y) * size_t(width) + size_t(x)]) {
+                    radiance_[size_t(y) * size_t(width) + size_t(x)] = Spectrum(0.0f);
+                    continue;
+                }
                 Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), passIndex_, passSampler_);
                 Sample2 jitter = sampler.get2D(dim::kFilmJitter);
                 float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
@@ -228,6 +266,9 @@ private:
     const std::atomic<bool>* drop_;       // non-null: abandon the pass once it is true
     const int tilesX_, tilesY_;
     std::vector<Spectrum> radiance_;      // the pass in flight, one sample per pixel
+    std::vector<Spectrum> passTotal_;     // with noise tracking: its samples and splats per pixel
+    const std::vector<uint8_t>* active_ = nullptr;  // the pixels taking part (null: all)
+    int activeCount_ = 0;
     std::vector<TileCounters> tileCounters_;
     std::vector<SplatList> tileSplats_;   // one per tile, merged in tile order
     std::vector<std::thread> threads_;
@@ -260,6 +301,15 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     if (!(options.timeBudget >= 0) || options.timeBudget > 1e9)
         throw std::invalid_argument("time budget must be a non-negative number of seconds");
     if (options.threads < 0) throw std::invalid_argument("thread count must not be negative");
+    const bool adaptive = options.noiseThreshold > 0;
+    if (!(options.noiseThreshold >= 0) || options.noiseThreshold > 1e9)
+        throw std::invalid_argument("noise threshold must be a non-negative number");
+    if (adaptive && options.firstPass >= 0)
+        throw std::invalid_argument("adaptive stopping renders every pass in one process (no firstPass)");
+    if (adaptive && !film.tracksNoise()) {
+        if (film.passes() > 0) throw std::invalid_argument("adaptive stopping needs a film that tracked noise from its first pass");
+        film.trackNoise();
+    }
 
     // More workers than tiles would only wait at the barrier.
     const int tiles = ((options.width + kTileSize - 1) / kTileSize) * ((options.height + kTileSize - 1) / kTileSize);
@@ -273,6 +323,18 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     auto enough = [&] {
         return options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget : stats.passes >= options.spp;
     };
+    // Adaptive stopping: the pixels taking part in the next pass, decided from the film alone
+    // (and the integrator's learning, itself restored with a checkpoint).
+    std::vector<uint8_t> active;
+    auto decide = [&](int pass) -> const std::vector<uint8_t>* {
+        if (!adaptive) return nullptr;
+        const NoiseState noise = activePixels(film, integrator.learning(pass) ? 0.0 : options.noiseThreshold, active);
+        stats.activePixels = noise.active;
+        stats.estimatedRelMse = noise.meanSquared;
+        progress.setNoise(std::isfinite(noise.meanSquared) ? std::sqrt(noise.meanSquared) : -1,
+                          double(noise.active) / double(active.size()));
+        return noise.active == int(active.size()) ? nullptr : &active;
+    };
     {
         PassRunner runner(scene, integrator, options, film, threadCount,
                           control.dropInFlight ? control.cancel : nullptr);
@@ -280,7 +342,10 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
             if (stats.passes > 0 && enough()) break;
             if (cancelled() && (stats.passes > 0 || control.dropInFlight)) break;
             // The pass's index (its sampler key): the film's next one, or this call's share.
-            runner.startPass(options.firstPass >= 0 ? options.firstPass + stats.passes * options.passStride : film.passes());
+            const int pass = options.firstPass >= 0 ? options.firstPass + stats.passes * options.passStride : film.passes();
+            const std::vector<uint8_t>* taking = decide(pass);
+            if (adaptive && stats.activePixels == 0) break;  // every pixel reached the threshold
+            runner.startPass(pass, taking, stats.activePixels);
             while (!runner.waitPass(std::chrono::milliseconds(200))) {
                 double t = secondsSince(start);
                 double fraction = options.timeBudget > 0
@@ -300,6 +365,7 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
             }
         }
     }
+    if (adaptive) decide(film.passes());  // the state after the last pass, for the report
     stats.seconds = secondsSince(start);
     progress.finish();
     return stats;

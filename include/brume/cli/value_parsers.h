@@ -20,7 +20,8 @@ constexpr int64_t kMaxImagePixels = int64_t(1) << 27;
 // Whole decimal numbers in [lo, hi].
 int64_t parseInteger(const std::string& what, const std::string& text, int64_t lo, int64_t hi);
 uint64_t parseUnsigned64(const std::string& what, const std::string& text);
-// A finite decimal number in (0, hi].
+// A finite decimal number in (0, hi]: any quantity, or seconds.
+double parsePositiveNumber(const std::string& what, const std::string& text, double hi);
 double parsePositiveSeconds(const std::string& what, const std::string& text, double hi);
 // "WxH", each side in [1, kMaxImageSide], at most kMaxImagePixels pixels.
 Resolution parseResolution(const std::string& what, const std::string& text);

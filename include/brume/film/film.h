@@ -11,6 +11,11 @@
 // each work unit (one tile of one pass) records its splats in its own SplatList, and after
 // the pass the renderer merges the lists.
 // pixel() = sum / passes.
+//
+// Adaptive sampling (render/pixel_noise.h) stops pixels one by one: a film that tracks noise
+// (trackNoise()) also keeps, per pixel, how many passes it took part in and the exact sums of
+// the squares of its values per pass (its sample plus that pass's splats on it), and its
+// pixel() is sum / that count. A film that does not track noise keeps neither.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -48,6 +53,21 @@ public:
     // Marks the end of a pass: every pixel has received its sample (or had it dropped).
     void completePass() { ++passes_; }
 
+    // Noise tracking (see the file comment). trackNoise() on a film without passes starts it;
+    // on one with passes it is a std::logic_error (their squares are gone).
+    void trackNoise();
+    bool tracksNoise() const { return !samples_.empty(); }
+    // With noise tracked: pixel i (= y·width + x) took part in the pass in flight, whose
+    // value there (sample and splats) was `value`: counts it and adds its squares. Call it
+    // once per taking part pixel per pass (single-threaded), with add()/splat() as usual.
+    void addPassValue(size_t i, Spectrum value);
+    // The passes pixel i took part in (passes() without noise tracking).
+    int samples(size_t i) const { return samples_.empty() ? passes_ : samples_[i]; }
+    // The exact sums of the squares of its values per pass, 3 per pixel (empty without noise
+    // tracking).
+    const std::vector<FixedSum>& squares() const { return squares_; }
+    const std::vector<int32_t>& sampleCounts() const { return samples_; }
+
     // Mean over the completed passes (black before the first one).
     Spectrum pixel(int x, int y) const;
     // The whole image as float RGB, row-major, top row first (what writeImage takes).
@@ -64,15 +84,19 @@ public:
     // The raw state, for checkpoints and for combining renders of disjoint passes (MPI
     // ranks): the sums, the pass count and whether there were splats. restore() puts such a
     // state back exactly (it throws std::invalid_argument for a negative pass count or sums
-    // that are not 3 per pixel).
+    // that are not 3 per pixel). With noise tracking also the counts and squares (both
+    // empty: none; else one count in [0, passes] per pixel and 3 squares per pixel).
     const std::vector<Sum>& sums() const { return sum_; }
-    void restore(int passes, std::vector<Sum> sums, bool hasSplats);
+    void restore(int passes, std::vector<Sum> sums, bool hasSplats, std::vector<int32_t> samples = {},
+                 std::vector<Sum> squares = {});
 
 private:
     int width_, height_;
     int passes_ = 0;
     std::vector<Sum> sum_;  // 3 per pixel
     bool hasSplats_ = false;
+    std::vector<int32_t> samples_;  // noise tracking: passes per pixel
+    std::vector<Sum> squares_;      // and their squares, 3 per pixel
 };
 
 }  // namespace brume

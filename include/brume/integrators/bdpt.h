@@ -103,6 +103,7 @@ public:
     uint64_t sequenceIndexFor(int pass, SamplerKind kind) const override;
     LeftOutPasses leftOut() const override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
+    bool learning(int pass) const override;
     std::string saveState() const override;
     void loadState(const std::string& state) override;
 

@@ -20,7 +20,9 @@ struct PassSummary {
     bool complete = false;  // false: abandoned, its samples thrown away
     PathStats totals;       // its tiles' counters, summed in tile order (complete passes only)
     // The pass's own image (complete passes only): one sample per pixel, row-major, and the
-    // splats of its tiles in tile order.
+    // splats of its tiles in tile order. Under adaptive stopping (renderer.h) the pixels that
+    // stopped have black samples here, and the splats are as made; no integrator learns from
+    // such passes (Integrator::learning).
     int width = 0, height = 0;
     const Spectrum* radiance = nullptr;
     const SplatList* splats = nullptr;
@@ -74,6 +76,11 @@ public:
     };
     virtual LeftOutPasses leftOut() const { return {}; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}
+    // Whether pass `pass` (asked before it starts) still teaches it from the pass's whole
+    // image (its endPass reads every pixel: the planner's pilot and duel, light tracing's
+    // learning passes, the guide's training and noise passes). Adaptive stopping
+    // (renderer.h) stops no pixel while it does. None by default.
+    virtual bool learning(int pass) const { return false; }
     // What it keeps from pass to pass, as bytes for a checkpoint (empty: nothing), and back:
     // a render resumed from a checkpoint continues with the same state. loadState throws
     // std::runtime_error for bytes it did not write.

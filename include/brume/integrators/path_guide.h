@@ -54,6 +54,9 @@ public:
         return pixelEstimate_[pixel];
     }
     bool training() const { return passes_ < kLastFitPass && records_.size() < kMaxRecords; }
+    // Whether the next pass still teaches it: a training pass, or a guided pass whose noise
+    // it measures (leftOut).
+    bool learning() const { return training() || guidedPasses_ < 2 * kNoisePairs; }
     // Complete training passes so far (kLastFitPass, or fewer if the records filled up).
     int trainingPasses() const { return passes_; }
 

@@ -56,6 +56,7 @@ public:
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
     }
+    bool learning(int) const override { return guide_ && guide_->learning(); }
     // The guide's training passes, once the guided ones outnumber them (path_guide.h).
     LeftOutPasses leftOut() const override { return guide_ ? guide_->leftOut() : LeftOutPasses{}; }
     std::string saveState() const override { return guide_ ? guide_->saveState() : std::string(); }

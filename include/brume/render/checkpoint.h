@@ -11,13 +11,17 @@
 //   i32 passes                 completed passes
 //   u64 nonFinite              samples and splats dropped so far
 //   u8 hasSplats
+//   u8 tracksNoise             1: the film tracks noise for adaptive stopping (film.h)
 //   u64 stateBytes             the integrator's state (Integrator::saveState), may be 0
 //   i128 × 3·w·h               the film's exact sums (film.h), row-major, top row first, each
 //                              as u64 low half then u64 high half of the two's complement
+//   with tracksNoise: i32 × w·h the passes each pixel took part in, then i128 × 3·w·h the
+//                              sums of the squares of its values per pass
 //   stateBytes bytes           the integrator's state
 //   u64 checksum               FNV-1a 64 of every byte before it
-// where str is u32 length + bytes (at most 4096). Version 3: exact sums (version 2 kept
-// doubles, sample and splat sums apart).
+// where str is u32 length + bytes (at most 4096). Version 4 added tracksNoise; version 3
+// (without it, read as 0) is still read. Version 3: exact sums (version 2 kept doubles,
+// sample and splat sums apart).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -28,7 +32,7 @@
 
 namespace brume {
 
-constexpr uint32_t kCheckpointVersion = 3;
+constexpr uint32_t kCheckpointVersion = 4;
 
 // (name, value): what must match for a checkpoint to be continued, e.g. ("--spp", "64").
 using CheckpointSettings = std::vector<std::pair<std::string, std::string>>;

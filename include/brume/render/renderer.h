@@ -33,6 +33,15 @@ struct RenderOptions {
     int firstPass = -1;
     int passStride = 1;
     bool progress = false;      // progress bar on stderr
+    // Adaptive stopping (film/pixel_noise.h): > 0 stops each pixel once its estimated
+    // relative error reaches it, and the render once every pixel has (or spp or the time
+    // budget ends it first). Pixels stop only between passes, after kNoiseMinPasses and the
+    // integrator's learning passes (Integrator::learning): a stopped pixel takes no sample
+    // and keeps no splat, and a pass's light-tracing splats are scaled by pixels / pixels
+    // that took part (each such pixel traced one light subpath: the estimate stays
+    // unbiased). Needs a film that tracks noise from its first pass (render() starts it on
+    // an empty film), and a single process (firstPass < 0).
+    double noiseThreshold = 0;
 };
 
 struct RenderStats {
@@ -43,6 +52,10 @@ struct RenderStats {
     PathCounts counts;       // the integrator's own (PathStats), same passes
     TechniqueSums techniques;  // each technique's share of the image and its squares (--stats)
     uint64_t nonFinite = 0;  // samples and splats dropped for being NaN or infinite
+    // With a noise threshold: pixels still going on after the last pass, and the image's
+    // estimated relative MSE then (film/pixel_noise.h; every pixel, stopped or not).
+    int activePixels = 0;
+    double estimatedRelMse = 0;
 };
 
 // What render() watches and calls besides its options; every member is optional.

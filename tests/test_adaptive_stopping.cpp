@@ -1,0 +1,176 @@
+// Adaptive stopping (film/pixel_noise.h, `--noise-threshold`): the per-pixel error estimate
+// against its closed form; which pixels stop; the image stays the same bits for any thread
+// count and across a stop and resume; and the furnace (every pixel exactly 1) still holds for
+// pt and bdpt (whose light-tracing splats are rescaled once pixels stop), checked per pixel
+// from 32 independent renders with the Bonferroni z bound (support/pixel_estimates.h).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "brume/film/film.h"
+#include "brume/film/pixel_noise.h"
+#include "brume/integrators/bdpt.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/render/renderer.h"
+#include "support/pixel_estimates.h"
+
+using namespace brume;
+using namespace brume::test;
+
+namespace {
+
+// Adds one pass to a noise-tracking film: pixel i gets values[i] (grey) where taking[i].
+void addPass(Film& film, const std::vector<float>& values, const std::vector<bool>& taking) {
+    for (size_t i = 0; i < values.size(); ++i) {
+        if (!taking[i]) continue;
+        const int x = int(i) % film.width(), y = int(i) / film.width();
+        film.add(x, y, Spectrum(values[i]));
+        film.addPassValue(i, Spectrum(values[i]));
+    }
+    film.completePass();
+}
+
+RenderOptions adaptiveOptions(int size, int spp, double threshold, uint64_t seed, int threads) {
+    RenderOptions o;
+    o.width = o.height = size;
+    o.spp = spp;
+    o.seed = seed;
+    o.threads = threads;
+    o.noiseThreshold = threshold;
+    return o;
+}
+
+double meanSamples(const Film& film) {
+    double n = 0;
+    for (int32_t s : film.sampleCounts()) n += s;
+    return n / double(film.sampleCounts().size());
+}
+
+BdptOptions plainBdpt() { return BdptOptions{-1, MisHeuristic::Power}; }
+
+}  // namespace
+
+TEST_CASE("pixel noise: the relative error is the mean's variance weighed as the relative MSE", "[adaptive]") {
+    Film film(2, 1);
+    film.trackNoise();
+    const float a[4] = {1, 2, 3, 6};
+    for (float v : a) addPass(film, {v, 0.5f}, {true, true});
+    // Pixel 0: mean 3, s² = ((1-3)² + (2-3)² + 0 + 3²) / 3 = 14/3, the mean's variance s²/4.
+    CHECK(pixelRelativeVariance(film, 0) == Approx((14.0 / 3.0 / 4.0) / (9.0 + 0.01)).epsilon(1e-9));
+    CHECK(pixelRelativeVariance(film, 1) == 0.0);  // constant
+    CHECK(film.pixel(0, 0).x == Approx(3.0));
+    // One pass only: no estimate.
+    Film one(1, 1);
+    one.trackNoise();
+    addPass(one, {1.0f}, {true});
+    CHECK(std::isinf(pixelRelativeVariance(one, 0)));
+}
+
+TEST_CASE("pixel noise: constant pixels stop after the least passes, noisy ones and their neighbours go on", "[adaptive]") {
+    // 5×1: pixel 0 alternates 0 and 2, the others are constant 1.
+    Film film(5, 1);
+    film.trackNoise();
+    std::vector<uint8_t> active;
+    const std::vector<bool> all(5, true);
+    for (int pass = 0; pass < kNoiseMinPasses; ++pass) {
+        NoiseState s = activePixels(film, 0.01, active);
+        CHECK(s.active == 5);  // none stops before kNoiseMinPasses
+        addPass(film, {pass % 2 ? 2.0f : 0.0f, 1, 1, 1, 1}, all);
+    }
+    NoiseState s = activePixels(film, 0.01, active);
+    // Pixel 1 is constant but its 3×3 neighbourhood holds pixel 0: it goes on with it.
+    CHECK(std::vector<int>(active.begin(), active.end()) == std::vector<int>{1, 1, 0, 0, 0});
+    CHECK(s.active == 2);
+    CHECK(s.meanSquared == Approx(pixelRelativeVariance(film, 0) / 5));
+    // Threshold 0 (as while the integrator learns): every pixel goes on.
+    CHECK(activePixels(film, 0.0, active).active == 5);
+    // A pixel that skipped a pass has stopped for good, whatever its error.
+    addPass(film, {0, 1, 1, 1, 1}, {true, true, false, false, false});
+    s = activePixels(film, 1e9, active);
+    CHECK(s.active == 0);
+    CHECK(activePixels(film, 0.0, active).active == 2);
+    CHECK(film.samples(2) == kNoiseMinPasses);
+    CHECK(film.pixel(2, 0).x == Approx(1.0));
+}
+
+TEST_CASE("adaptive stopping: the same bits for 1 and 2 threads and across a resume (pt and bdpt)", "[adaptive]") {
+    auto scene = loadTestScene("furnace_albedo.gltf");
+    for (int which = 0; which < 2; ++which) {
+        INFO((which ? "bdpt" : "pt"));
+        auto make = [&]() -> std::unique_ptr<Integrator> {
+            if (which) return std::make_unique<BdptIntegrator>(plainBdpt());
+            return std::make_unique<PathTracer>(PathTracerOptions{});
+        };
+        const int spp = 40;
+        Film one(12, 12), two(12, 12), resumed(12, 12);
+        render(*scene, *make(), adaptiveOptions(12, spp, 0.15, 3, 1), one);
+        render(*scene, *make(), adaptiveOptions(12, spp, 0.15, 3, 2), two);
+        CHECK(one.sums() == two.sums());
+        CHECK(one.squares() == two.squares());
+        CHECK(one.sampleCounts() == two.sampleCounts());
+        // Pixels did stop, at different passes.
+        CHECK(meanSamples(one) < spp);
+        CHECK(meanSamples(one) > kNoiseMinPasses);
+        // Stopped after 25 passes (some pixels already stopped), its state restored into a
+        // new film and continued: the same bits.
+        std::unique_ptr<Integrator> integrator = make();
+        Film first(12, 12);
+        render(*scene, *integrator, adaptiveOptions(12, 25, 0.15, 3, 2), first);
+        REQUIRE(first.passes() == 25);
+        CHECK(meanSamples(first) < 25);
+        resumed.restore(first.passes(), first.sums(), first.hasSplats(), first.sampleCounts(), first.squares());
+        render(*scene, *integrator, adaptiveOptions(12, spp - 25, 0.15, 3, 1), resumed);
+        CHECK(resumed.sums() == one.sums());
+        CHECK(resumed.sampleCounts() == one.sampleCounts());
+    }
+}
+
+// The furnace under adaptive stopping: each render stops its pixels at a relative error of
+// 0.15 (16–64 passes, about 30 on average); 32 renders with other seeds give each pixel's mean and
+// standard error; and the image's mean of (pixel − 1), with its standard error over the 32
+// renders (|z| < 4). Stopping on a pixel's own error alone biased that mean low
+// (pixel_noise.h).
+TEST_CASE("adaptive stopping: the furnace is still 1 in every pixel (pt, and bdpt with its splats)", "[adaptive][oracle][sanitizer-skip]") {
+    auto scene = loadTestScene("furnace_albedo.gltf");
+    const int W = 16, batches = 32;
+    for (int which = 0; which < 2; ++which) {
+        INFO((which ? "bdpt" : "pt"));
+        std::vector<PixelEstimate> px(size_t(W) * W);
+        PixelEstimate image;  // each render's mean over pixels and channels of (pixel − 1)
+        double spp = 0;
+        for (int b = 0; b < batches; ++b) {
+            Film film(W, W);
+            const RenderOptions o = adaptiveOptions(W, 64, 0.15, 7000 + uint64_t(b), 2);
+            if (which) render(*scene, BdptIntegrator(plainBdpt()), o, film);
+            else render(*scene, PathTracer(PathTracerOptions{}), o, film);
+            spp += meanSamples(film) / batches;
+            double bias = 0;
+            for (int y = 0; y < W; ++y)
+                for (int x = 0; x < W; ++x) {
+                    const Spectrum v = film.pixel(x, y);
+                    PixelEstimate& e = px[size_t(y) * W + size_t(x)];
+                    for (int c = 0; c < 3; ++c) {
+                        e.sum[c] += v[c];
+                        e.sum2[c] += double(v[c]) * v[c];
+                        bias += (v[c] - 1.0) / (3.0 * W * W);
+                    }
+                    ++e.n;
+                }
+            image.sum[0] += bias;
+            image.sum2[0] += bias * bias;
+            ++image.n;
+        }
+        INFO("mean spp " << spp);
+        CHECK(spp < 40);  // pixels did stop early
+        const double bound = zBound(int(px.size()) * 3);
+        double worst = 0;
+        for (const PixelEstimate& e : px)
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.mean(c) - 1.0) / e.stderror(c));
+        const double zImage = image.mean(0) / image.stderror(0);
+        INFO("worst |z| " << worst << " (bound " << bound << "); mean of (pixel - 1) " << image.mean(0) << " ± "
+                          << image.stderror(0) << ", z " << zImage);
+        CHECK(worst < bound);
+        CHECK(std::abs(zImage) < 4.0);
+    }
+}

@@ -151,6 +151,38 @@ TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as str
     }
 }
 
+// Adaptive stopping (--noise-threshold) decides from the film alone, whose per-pixel counts
+// and squares the checkpoint keeps: stopped before any pixel stopped, while pixels stop, and
+// (auto) inside its learning passes, it resumes to the same bytes; the threshold is a setting.
+TEST_CASE("cli checkpoint: adaptive stopping resumes to the same bytes", "[cli][checkpoint][adaptive]") {
+    for (const char* integrator : {"pt", "bdpt", "auto"}) {
+        INFO("--integrator " << integrator);
+        TempDir dir;
+        const Args common = {data("bdpt_quad_fogbox.gltf"), "--integrator", integrator, "--res", "40x30",
+                             "--spp", "64", "--noise-threshold", "0.05"};
+        const std::string ckpt = dir / "c.ckpt";
+        Result r = run(common + Args{"-o", dir / "straight.pfm"});
+        REQUIRE(r.code == 0);
+        // Pixels stopped, not all of them.
+        std::smatch m;
+        REQUIRE(std::regex_search(r.out, m, std::regex(R"(adaptive: ([0-9.]+) spp on average, (\d+) of 1200 pixels)")));
+        CHECK(std::stod(m[1]) < 50);
+        CHECK(std::stoi(m[2]) > 0);
+        for (const char* stop : {"10", "18", "30"}) {
+            INFO("stopped after " << stop << " passes");
+            REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+            r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
+            CHECK(r.code == 0);
+            CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
+        }
+        // Without the threshold, or with another, the checkpoint does not continue.
+        Args plain = {data("bdpt_quad_fogbox.gltf"), "--integrator", integrator, "--res", "40x30", "--spp", "64"};
+        checkOneLineError(run(plain + Args{"-o", dir / "c.pfm", "--resume", ckpt}), "--noise-threshold");
+        Args other = plain + Args{"--noise-threshold", "0.1"};
+        checkOneLineError(run(other + Args{"-o", dir / "c.pfm", "--resume", ckpt}), "--noise-threshold is 0.1 here but 0.05 in the checkpoint");
+    }
+}
+
 // auto's pilot ends after its fourth pass and its duel after its twentieth (allocation_planner.h):
 // stopped in the pilot, just after the pilot's choice, in the duel, and after a pass of the final
 // choice, it resumes to the same bytes.

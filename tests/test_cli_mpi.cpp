@@ -125,6 +125,21 @@ TEST_CASE("mpi: a rank started with other arguments is refused before rendering"
     CHECK_FALSE(fs::exists(out));
 }
 
+// Adaptive stopping decides after every pass from the whole film: not over several processes.
+TEST_CASE("mpi: --noise-threshold is refused under mpirun", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "out.exr";
+    Run r = shell(mpirun(2) + quote(BRUME_EXE) + kRender + "--noise-threshold 0.1 -o " + quote(out));
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--noise-threshold needs a single process") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+}
+
 TEST_CASE("mpi: a killed rank fails the job and the last checkpoint stays valid", "[mpi][cli]") {
     if (!mpiAvailable()) {
         WARN("no MPI build or no mpirun: not run");

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <memory>
@@ -122,10 +123,13 @@ struct RenderArgs {
 // The most passes adaptive stopping renders when neither --spp nor --time bounds it.
 constexpr int kAdaptiveMaxSpp = 1024;
 
-// A number as a checkpoint setting: every digit it has.
+// A number as a checkpoint setting: the fewest digits that read back as the same double.
 std::string numberText(double v) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
+    for (int digits = 1; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
     return buf;
 }
 

@@ -145,3 +145,20 @@ TEST_CASE("bench: a guided method renders with its training passes", "[cli][benc
     CHECK(contains(csv, "single_near,bdpt:mis:guided,"));
     CHECK(fs::exists(dir + "/pt_mis_guided.exr"));
 }
+
+// --noise-threshold: each method once more with adaptive stopping, a row each in the table
+// and in threshold.csv (the time limit, 10x the largest budget, ends these at 2 s at most).
+TEST_CASE("bench: time to a noise threshold, beside the equal-time rows", "[cli][bench][adaptive]") {
+    TempDir scratch;
+    const std::string dir = (scratch / "threshold");
+    Run run = runBrume("bench " + quote(kScene) + " --out " + quote(dir) +
+                       " --res 24x24 --budgets 0.2 --reference-spp 16 --methods pt:mis,bdpt:density --noise-threshold 0.2 --no-chart");
+    INFO("stdout: " << run.out << "\nstderr: " << run.err);
+    REQUIRE(run.code == 0);
+    CHECK(contains(run.out, "time to noise threshold 0.2"));
+    const std::string csv = readFile(dir + "/threshold.csv");
+    CHECK(contains(csv, "scene,method,threshold,seconds,mean_spp,converged,estimated_rel_mse,rel_mse,efficiency,vs_uniform\n"));
+    CHECK(contains(csv, "single_near,pt:mis,0.2,"));
+    CHECK(contains(csv, "single_near,bdpt:density,0.2,"));
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == 3);
+}

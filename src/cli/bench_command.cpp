@@ -172,6 +172,7 @@ struct BenchArgs {
     const BenchMethod* referenceMethod = nullptr;  // null: pt:mis
     bool chart = true;
     int threads = 0;
+    double noiseThreshold = 0;  // > 0: also each method's time to that threshold
 };
 
 std::vector<std::string> splitList(const std::string& what, const std::string& text) {
@@ -280,6 +281,11 @@ bool parseBenchArgs(const std::vector<std::string>& argv, BenchArgs& a) {
                   }
                   methodsGiven = true;
               });
+    addOption(app, "--noise-threshold", "E",
+              "also render each method with adaptive stopping at relative error E (as render --noise-threshold; "
+              "for at most 10x the largest budget) and report its time to threshold, relative MSE and "
+              "efficiency beside its own at the largest budget (DIR/threshold.csv)",
+              [&](const std::string& v) { a.noiseThreshold = parsePositiveNumber("--noise-threshold", v, 1e6); });
     addOption(app, "--budgets", "LIST", "comma-separated time budgets in seconds (default 1,2,4)",
               [&](const std::string& v) {
                   for (const std::string& item : splitList("--budgets", v)) {
@@ -609,6 +615,54 @@ void writeResults(const std::string& csvPath, const std::string& sceneLabel, con
     }
 }
 
+// Each method again, from scratch, with adaptive stopping at a.noiseThreshold (renderer.h):
+// the seconds until every pixel reached it (or 10x the largest budget), the mean spp, the
+// estimated and the measured relative MSE, the efficiency, and that over the method's own
+// at the largest budget (under relMSE ∝ 1/time, how much sooner it reaches the same error).
+// To stdout and `csvPath`. False if interrupted.
+bool timeToThreshold(const BenchArgs& a, Scene& scene, const std::vector<float>& reference, const std::vector<Row>& rows,
+                     double largest, const std::string& csvPath) {
+    std::printf("\ntime to noise threshold %g (adaptive stopping; 'vs uniform': its efficiency over the method's own at %g s):\n",
+                a.noiseThreshold, largest);
+    std::printf("%-22s  %8s  %8s  %11s  %11s  %11s  %10s\n", "method", "seconds", "mean_spp", "est_rel_mse", "rel_mse",
+                "efficiency", "vs_uniform");
+    std::string csv = "scene,method,threshold,seconds,mean_spp,converged,estimated_rel_mse,rel_mse,efficiency,vs_uniform\n";
+    for (const BenchChoice& choice : a.methods) {
+        std::unique_ptr<Integrator> integrator = makeChoice(choice, a.maxDepth);
+        RenderOptions options;
+        options.width = a.res.width;
+        options.height = a.res.height;
+        options.timeBudget = 10 * largest;
+        options.noiseThreshold = a.noiseThreshold;
+        options.seed = a.seed;
+        options.sampler = choice.sampler;
+        options.threads = a.threads;
+        scene.setEmitterSampling(choice.emitters);
+        Film film(a.res.width, a.res.height);
+        RenderStats stats = render(scene, *integrator, options, film, &gBenchInterrupted);
+        if (benchInterrupted()) return false;
+        double meanSpp = 0;
+        for (int32_t n : film.sampleCounts()) meanSpp += n;
+        meanSpp /= double(film.sampleCounts().size());
+        const Metrics error = compareImages(finalImage(film, *integrator, options.sampler), reference);
+        const double efficiency = error.relMse * stats.seconds > 0 ? 1 / (error.relMse * stats.seconds) : HUGE_VAL;
+        double uniform = 0;
+        for (const Row& r : rows)
+            if (r.method == &choice && r.budget == largest) uniform = r.efficiency;
+        const double ratio = uniform > 0 ? efficiency / uniform : 0;
+        std::printf("%-22s  %8.3f  %8.1f  %11.4e  %11.4e  %11s  %10s%s\n", choice.name.c_str(), stats.seconds, meanSpp,
+                    stats.estimatedRelMse, error.relMse, format("%.4g", efficiency).c_str(), format("%.3f", ratio).c_str(),
+                    stats.activePixels > 0 ? "  (time limit: not every pixel reached it)" : "");
+        std::fflush(stdout);
+        csv += csvField(fs::path(a.scene).stem().string()) + "," + choice.name + "," + format("%g", a.noiseThreshold) + "," +
+               format("%.6f", stats.seconds) + "," + format("%.3f", meanSpp) + "," + (stats.activePixels == 0 ? "1" : "0") +
+               "," + format("%.6e", stats.estimatedRelMse) + "," + format("%.6e", error.relMse) + "," +
+               format("%.6g", efficiency) + "," + format("%.4f", ratio) + "\n";
+    }
+    writeTextFile(csvPath, csv);
+    return true;
+}
+
 int runBench(const std::vector<std::string>& argv) {
     BenchArgs a;
     if (!parseBenchArgs(argv, a)) return kExitOk;
@@ -705,6 +759,9 @@ int runBench(const std::vector<std::string>& argv) {
             }
         }
     }
+
+    if (a.noiseThreshold > 0 && !timeToThreshold(a, scene, reference, rows, largest, (dir / "threshold.csv").string()))
+        return kExitInterrupted;
 
     writeResults(csvPath, sceneLabel, rows, a.methods, a.budgets, mw);
     std::printf("\nwrote %s", csvPath.c_str());

@@ -18,7 +18,7 @@ double pixelRelativeVariance(const Film& film, size_t i) {
     return e2 / 3;
 }
 
-NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active) {
+NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
     const int w = film.width(), h = film.height();
     const size_t count = size_t(w) * size_t(h);
     active.assign(count, 0);
@@ -33,18 +33,18 @@ NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>
         for (int x = 0; x < w; ++x) {
             const size_t i = size_t(y) * size_t(w) + size_t(x);
             if (film.samples(i) != film.passes()) continue;  // stopped before
-            bool goOn = !deciding;
-            if (!goOn) {
-                double sum = 0;
-                int n = 0;
-                for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
-                    for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx, ++n)
-                        sum += e2[size_t(yy) * size_t(w) + size_t(xx)];
-                goOn = sum > bound * n;
-            }
-            if (goOn) {
-                active[i] = 1;
-                ++state.active;
+            double sum = 0;
+            int n = 0;
+            for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
+                for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx, ++n)
+                    sum += e2[size_t(yy) * size_t(w) + size_t(xx)];
+            const double mean = sum / n;
+            if (deciding && mean <= bound) continue;
+            active[i] = 1;
+            ++state.active;
+            if (maxPasses > 0 && threshold > 0) {
+                const double passes = film.passes(), cap = std::max(0.0, maxPasses - passes);
+                state.samplesLeft += std::isfinite(mean) ? std::min(cap, passes * std::max(0.0, mean / bound - 1)) : cap;
             }
         }
     return state;

@@ -42,17 +42,21 @@ struct alignas(64) TileCounters {
 class ProgressBar {
 public:
     explicit ProgressBar(bool enabled) : enabled_(enabled) {}
-    // With a noise threshold: the estimated relative error now (√ of the mean e²) and the
-    // share of pixels still going on, shown after the bar.
-    void setNoise(double error, double activeShare) {
+    // With a noise threshold: the estimated relative error now (√ of the mean e²), the
+    // share of pixels still going on and the seconds left (< 0: not known), shown after the
+    // bar.
+    void setNoise(double error, double activeShare, double secondsLeft) {
         noise_ = error;
         activeShare_ = activeShare;
+        secondsLeft_ = secondsLeft;
     }
     void show(double fraction, int passesDone, const RenderOptions& options, double seconds) {
         if (!enabled_) return;
         if (options.noiseThreshold > 0 && noise_ >= 0) {
-            std::fprintf(stderr, "\r[noise %.3g / %.3g, %3.0f%% of pixels going on]  pass %d  %.1f s ", noise_,
-                         options.noiseThreshold, 100 * activeShare_, passesDone, seconds);
+            char left[48] = "";
+            if (secondsLeft_ >= 0) std::snprintf(left, sizeof left, ", about %.0f s left", secondsLeft_);
+            std::fprintf(stderr, "\r[noise %.3g / %.3g, %3.0f%% of pixels going on]  pass %d  %.1f s%s   ", noise_,
+                         options.noiseThreshold, 100 * activeShare_, passesDone, seconds, left);
             std::fflush(stderr);
             shown_ = true;
             return;
@@ -82,7 +86,7 @@ public:
 private:
     bool enabled_;
     bool shown_ = false;
-    double noise_ = -1, activeShare_ = 1;
+    double noise_ = -1, activeShare_ = 1, secondsLeft_ = -1;
 };
 
 // The worker pool for one render() call.
@@ -328,11 +332,16 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     std::vector<uint8_t> active;
     auto decide = [&](int pass) -> const std::vector<uint8_t>* {
         if (!adaptive) return nullptr;
-        const NoiseState noise = activePixels(film, integrator.learning(pass) ? 0.0 : options.noiseThreshold, active);
+        const bool deciding = !integrator.learning(pass);
+        const NoiseState noise = activePixels(film, deciding ? options.noiseThreshold : 0.0, active,
+                                              options.timeBudget > 0 ? 0 : film.passes() + options.spp - stats.passes);
         stats.activePixels = noise.active;
         stats.estimatedRelMse = noise.meanSquared;
+        // The time left at this render's pace per pixel sample (once pixels may stop).
+        const double perSample = stats.samples > 0 ? secondsSince(start) / double(stats.samples) : 0;
+        const bool known = deciding && film.passes() >= kNoiseMinPasses && perSample > 0 && options.timeBudget <= 0;
         progress.setNoise(std::isfinite(noise.meanSquared) ? std::sqrt(noise.meanSquared) : -1,
-                          double(noise.active) / double(active.size()));
+                          double(noise.active) / double(active.size()), known ? noise.samplesLeft * perSample : -1);
         return noise.active == int(active.size()) ? nullptr : &active;
     };
     {

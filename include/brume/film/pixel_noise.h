@@ -36,11 +36,15 @@ double pixelRelativeVariance(const Film& film, size_t i);
 struct NoiseState {
     int active = 0;           // pixels that go on
     double meanSquared = 0;   // the mean e² over the image: its estimated relative MSE
+    // The pixel samples the active pixels still need, as e² ∝ 1/n says: a pixel with n
+    // passes whose neighbourhood mean is w needs n·(w/E² − 1) more, at most maxPasses − n.
+    double samplesLeft = 0;
 };
 
 // For a film that tracks noise: active[i] = 1 for the pixels that took part in every pass so
 // far and have not reached `threshold` (with fewer than kNoiseMinPasses passes, or
-// threshold ≤ 0, every pixel that took part in every pass). Resizes `active`.
-NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active);
+// threshold ≤ 0, every pixel that took part in every pass). Resizes `active`. `maxPasses`
+// bounds samplesLeft (0: no estimate).
+NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
 
 }  // namespace brume

@@ -43,6 +43,37 @@ TEST_CASE("render --aov: albedo and normal layers by name, the colour unchanged"
         }
 }
 
+// --aov variance: a layer "Variance" (R, G, B) after the others, each pixel's variance of the
+// mean (film/pixel_noise.h; its statistics are tested in test_adaptive_stopping.cpp): not
+// negative, and 0 in the furnace's constant pixels only if they are constant.
+TEST_CASE("render --aov variance: a Variance layer after the colour, the colour unchanged", "[cli][aov]") {
+    TempDir dir;
+    const std::string scene = quote(std::string(BRUME_TEST_DATA) + "/furnace_glowing.gltf");
+    const std::string common = "render " + scene + " --res 12x9 --spp 8 --seed 5 --threads 2";
+    REQUIRE(runBrume(common + " -o " + quote(dir / "plain.exr")).code == 0);
+    const BrumeResult r = runBrume(common + " -o " + quote(dir / "aov.exr") + " --aov variance,albedo");
+    REQUIRE(r.code == 0);
+    auto in = OIIO::ImageInput::open(dir / "aov.exr");
+    REQUIRE(in);
+    const OIIO::ImageSpec& spec = in->spec();
+    const std::vector<std::string> names = {"R", "G", "B", "Albedo.R", "Albedo.G", "Albedo.B", "Variance.R", "Variance.G", "Variance.B"};
+    REQUIRE(spec.nchannels == 9);
+    for (int c = 0; c < 9; ++c) CHECK(spec.channelnames[size_t(c)] == names[size_t(c)]);
+    std::vector<float> px(size_t(12 * 9 * 9));
+    REQUIRE(in->read_image(0, 0, 0, 9, OIIO::TypeDesc::FLOAT, px.data()));
+    in->close();
+    int w = 0, h = 0;
+    const std::vector<float> plain = brume::readImage(dir / "plain.exr", &w, &h);
+    double variance = 0;
+    for (size_t i = 0; i < size_t(12 * 9); ++i)
+        for (size_t c = 0; c < 3; ++c) {
+            CHECK(px[9 * i + c] == plain[3 * i + c]);
+            CHECK(px[9 * i + 6 + c] >= 0.0f);
+            variance += px[9 * i + 6 + c];
+        }
+    CHECK(variance > 0);  // the furnace's estimates do vary
+}
+
 TEST_CASE("render --aov: unknown layers and other formats are refused", "[cli][aov]") {
     TempDir dir;
     const std::string scene = quote(std::string(BRUME_TEST_DATA) + "/furnace_glowing.gltf");

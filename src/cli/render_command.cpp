@@ -28,6 +28,7 @@
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/checkpoint.h"
 #include "brume/film/film.h"
+#include "brume/film/pixel_noise.h"
 #include "brume/render/fnv1a.h"
 #include "brume/cli/scene_identity.h"
 #include "brume/film/image_io.h"
@@ -115,7 +116,7 @@ struct RenderArgs {
     bool checkpointEveryGiven = false;
     double writeEvery = 0;        // --write-every SECONDS (0: only at the end)
     double noiseThreshold = 0;    // --noise-threshold E (0: off)
-    bool aovAlbedo = false, aovNormal = false;  // --aov
+    bool aovAlbedo = false, aovNormal = false, aovVariance = false;  // --aov
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
 };
@@ -269,8 +270,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "renamed into place), to watch a long render; the final image is the same",
               [&](const std::string& v) { a.writeEvery = parsePositiveSeconds("--write-every", v, 1e7); });
     addOption(app, "--aov", "LIST",
-              "also write these layers into the EXR, for denoisers (docs/denoising.md): albedo, normal "
-              "(comma-separated)",
+              "also write these layers into the EXR, for denoisers (docs/denoising.md): albedo, normal, "
+              "variance (of each pixel's mean, from the spread of its passes; not under mpirun) (comma-separated)",
               [&](const std::string& v) {
                   size_t at = 0;
                   while (at <= v.size()) {
@@ -278,7 +279,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                       const std::string name = v.substr(at, comma - at);
                       if (name == "albedo") a.aovAlbedo = true;
                       else if (name == "normal") a.aovNormal = true;
-                      else throw UsageError("--aov: unknown layer '" + name + "' (available: albedo, normal)");
+                      else if (name == "variance") a.aovVariance = true;
+                      else throw UsageError("--aov: unknown layer '" + name + "' (available: albedo, normal, variance)");
                       at = comma + 1;
                   }
               });
@@ -324,7 +326,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     if (!a.resume.empty() && a.seconds > 0) throw UsageError("--resume needs --spp, not --time");
     if (!a.checkpoint.empty() && a.checkpoint == a.output)
         throw UsageError("--checkpoint and --output name the same file '" + a.output + "'");
-    if ((a.aovAlbedo || a.aovNormal) && a.output.size() >= 4 && a.output.compare(a.output.size() - 4, 4, ".exr") != 0 &&
+    if ((a.aovAlbedo || a.aovNormal || a.aovVariance) && a.output.size() >= 4 && a.output.compare(a.output.size() - 4, 4, ".exr") != 0 &&
         a.output.compare(a.output.size() - 4, 4, ".EXR") != 0)
         throw UsageError("--aov needs an .exr output (the layers go into it)");
     return true;
@@ -426,6 +428,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
     settings.insert(settings.end(), options.begin(), options.end());
     if (a.noiseThreshold > 0) settings.push_back({"--noise-threshold", numberText(a.noiseThreshold)});
+    if (a.aovVariance) settings.push_back({"the variance layer (--aov variance)", "on"});
     return settings;
 }
 
@@ -576,6 +579,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         throw UsageError("--strategy-images needs a single process (not mpirun)");
     if (group.distributed() && a.noiseThreshold > 0)
         throw UsageError("--noise-threshold needs a single process (not mpirun): pixels stop after every pass");
+    if (group.distributed() && a.aovVariance)
+        throw UsageError("--aov variance needs a single process (not mpirun): the ranks' films keep no squares");
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {
@@ -612,6 +617,13 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         if (a.aovAlbedo) layers.push_back({"Albedo", {"R", "G", "B"}, std::move(features.albedo)});
         if (a.aovNormal) layers.push_back({"Normal", {"X", "Y", "Z"}, std::move(features.normal)});
     }
+    // The variance layer comes from the film as it is when written.
+    auto layersOf = [&](const Film& f) {
+        if (!a.aovVariance || !f.tracksNoise()) return layers;
+        std::vector<ImageLayer> all = layers;
+        all.push_back({"Variance", {"R", "G", "B"}, pixelVariances(f)});
+        return all;
+    };
 
     const IntegratorSettings method = integratorSettings(a);
     BdptOptions bdptOptions = brume::bdptOptions(method);  // for the strategy images
@@ -624,6 +636,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     CheckpointSettings settings;
     if (!a.checkpoint.empty() || resumed) settings = checkpointSettings(a, res, scene.desc());
     Film film(res.width, res.height);
+    if (a.aovVariance) film.trackNoise();  // (the variance layer reads its squares)
     uint64_t earlierNonFinite = 0;
     if (resumed) {
         checkResumable(a.resume, *resumed, settings, res, a.spp);
@@ -673,7 +686,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             lastSave = Clock::now();
         }
         if (a.writeEvery > 0 && secondsSince(lastWrite) >= a.writeEvery) {
-            warnOnFailure([&] { writeImage(a.output, res.width, res.height, finalImage(f, integrator, a.sampler), layers); });
+            warnOnFailure([&] { writeImage(a.output, res.width, res.height, finalImage(f, integrator, a.sampler), layersOf(f)); });
             lastWrite = Clock::now();
         }
     };
@@ -743,7 +756,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
             checkpointError = std::current_exception();
         }
     }
-    writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler), layers);
+    writeImage(a.output, res.width, res.height, finalImage(film, integrator, options.sampler), layersOf(film));
     if (checkpointError) std::rethrow_exception(checkpointError);
     if (!a.checkpoint.empty() && complete) std::remove(a.checkpoint.c_str());
     const AllocationPlanner* planner =

@@ -18,6 +18,19 @@ double pixelRelativeVariance(const Film& film, size_t i) {
     return e2 / 3;
 }
 
+std::vector<float> pixelVariances(const Film& film) {
+    std::vector<float> out(film.sums().size(), 0.0f);
+    for (size_t i = 0; i < out.size() / 3; ++i) {
+        const int n = film.samples(i);
+        if (n < 2) continue;
+        for (size_t c = 3 * i; c < 3 * i + 3; ++c) {
+            const double S = fromFixed(film.sums()[c]), Q = fromFixed(film.squares()[c]);
+            out[c] = float(std::max(0.0, (Q - S * (S / n)) / (n - 1)) / n);
+        }
+    }
+    return out;
+}
+
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
     const int w = film.width(), h = film.height();
     const size_t count = size_t(w) * size_t(h);

@@ -33,6 +33,10 @@ constexpr double kRelativeErrorEpsilon = 0.01;  // as bench's relative MSE
 // e² of pixel i (y·width + x); +inf with fewer than 2 passes. The film must track noise.
 double pixelRelativeVariance(const Film& film, size_t i);
 
+// The variance of each pixel's mean, s²/n per channel (3 floats per pixel, row-major, top row
+// first; 0 where a pixel has fewer than 2 passes): the `Variance` layer of `--aov variance`.
+std::vector<float> pixelVariances(const Film& film);
+
 struct NoiseState {
     int active = 0;           // pixels that go on
     double meanSquared = 0;   // the mean e² over the image: its estimated relative MSE

@@ -31,35 +31,61 @@ std::vector<float> pixelVariances(const Film& film) {
     return out;
 }
 
+bool noiseDecisionPass(int passes) {
+    if (passes < kNoiseMinPasses) return false;
+    int top = 1;
+    while (top * 2 <= passes) top *= 2;
+    return passes % std::max(4, top / 4) == 0;
+}
+
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
     const int w = film.width(), h = film.height();
     const size_t count = size_t(w) * size_t(h);
-    active.assign(count, 0);
+    active.assign(count, 1);
     NoiseState state;
-    std::vector<double> e2(count);
-    for (size_t i = 0; i < count; ++i) e2[i] = pixelRelativeVariance(film, i);
-    for (size_t i = 0; i < count; ++i) state.meanSquared += e2[i];
-    state.meanSquared /= double(count);
-    const bool deciding = threshold > 0 && film.passes() >= kNoiseMinPasses;
-    const double bound = threshold * threshold;
+    std::vector<float> spread(count);  // σ² = n·e², the relative variance of one pass
+    for (size_t i = 0; i < count; ++i) {
+        const double e2 = pixelRelativeVariance(film, i);
+        state.meanSquared += e2 / double(count);
+        spread[i] = float(std::min(e2 * film.samples(i), 1e30));
+    }
+    if (!(threshold > 0) || film.passes() < kNoiseMinPasses) {
+        state.active = int(count);
+        return state;
+    }
+    if (!noiseDecisionPass(film.passes())) {
+        // Between decisions: the pixels that took part in the last pass go on.
+        for (size_t i = 0; i < count; ++i) {
+            active[i] = film.samples(i) == film.passes() ? 1 : 0;
+            state.active += active[i];
+        }
+        return state;
+    }
+    // σ² as the median over the 5×5 neighbourhood, and σ's mean over the image.
+    std::vector<double> sigma(count);
+    double meanSigma = 0;
+    float window[25];
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            const size_t i = size_t(y) * size_t(w) + size_t(x);
-            if (film.samples(i) != film.passes()) continue;  // stopped before
-            double sum = 0;
             int n = 0;
-            for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
-                for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx, ++n)
-                    sum += e2[size_t(yy) * size_t(w) + size_t(xx)];
-            const double mean = sum / n;
-            if (deciding && mean <= bound) continue;
-            active[i] = 1;
-            ++state.active;
-            if (maxPasses > 0 && threshold > 0) {
-                const double passes = film.passes(), cap = std::max(0.0, maxPasses - passes);
-                state.samplesLeft += std::isfinite(mean) ? std::min(cap, passes * std::max(0.0, mean / bound - 1)) : cap;
-            }
+            for (int yy = std::max(0, y - 2); yy <= std::min(h - 1, y + 2); ++yy)
+                for (int xx = std::max(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx)
+                    window[n++] = spread[size_t(yy) * size_t(w) + size_t(xx)];
+            std::nth_element(window, window + n / 2, window + n);
+            const size_t i = size_t(y) * size_t(w) + size_t(x);
+            sigma[i] = std::sqrt(double(window[n / 2]));
+            meanSigma += sigma[i] / double(count);
         }
+    const double scale = meanSigma / (threshold * threshold);  // n* = σ · σ̄ / E²
+    for (size_t i = 0; i < count; ++i) {
+        const double target = sigma[i] * scale, n = film.samples(i);
+        if (!(n < target)) {
+            active[i] = 0;
+            continue;
+        }
+        ++state.active;
+        if (maxPasses > 0) state.samplesLeft += std::max(0.0, std::min(target, double(maxPasses)) - n);
+    }
     return state;
 }
 

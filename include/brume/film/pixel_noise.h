@@ -1,22 +1,39 @@
-// Adaptive stopping (`--noise-threshold E`): which pixels have reached a relative error E,
-// estimated from the film's own passes (a film that tracks noise, film.h).
+// Adaptive sampling (`--noise-threshold E`): which pixels take part in the next pass so that
+// the image reaches an estimated relative error E soonest, estimated from the film's own
+// passes (a film that tracks noise, film.h).
 //
 // Pixel p took part in n passes; per channel c its values per pass (sample and splats) sum to
 // S and their squares to Q. The mean is m = S/n, the spread of one pass
 // s² = (Q − S²/n)/(n − 1), and the mean's variance s²/n. Weighed as `brume bench`'s relative
 // MSE weighs an error (x − r)² / (r² + 0.01), the pixel's expected relative squared error is
 //   e² = mean_c (s_c²/n) / (m_c² + 0.01),
-// so an image whose pixels all have e ≤ E has a relative MSE of about E² or less. (Passes
-// with Sobol numbers are not independent: their mean converges faster than s²/n says, so the
-// estimate errs high and pixels stop late, never early for that reason.)
+// and the image's relative MSE is about the mean of e² over its pixels. (Passes with Sobol
+// numbers are not independent: their mean converges faster than s²/n says, so the estimate
+// errs high and pixels stop late, never early for that reason.)
 //
-// One pixel's s² from a few passes is itself noisy, and it is correlated with the pixel's
-// mean: where rare samples are bright, a pixel whose bright samples have not yet come looks
-// both darker and converged. Stopping on it biases the image low (the furnace: −0.5 % with
-// pt, −0.75 % with bdpt at E = 0.15, z ≈ 3–4 over 32 renders). So a pixel stops when the mean
-// e² of its 3×3 neighbourhood is at most E², its own e² weighing 1/9 (the same furnace:
-// +0.14 % and −0.10 %, within noise), and only after kNoiseMinPasses passes. The price: a
-// lone noisy pixel among clean ones may stop at up to 3E.
+// Which pixels go on: not those above E, but as many passes per pixel as reach an image
+// relative MSE of E² soonest. A pixel whose passes have relative variance σ² = n·e² has
+// e² = σ²/n after n passes; the image's mean e² at a given number of samples is least with
+// n ∝ σ (Lagrange: minimise Σ σ²/n subject to Σ n fixed), and reaches E² with
+//   n* = σ · σ̄ / E²,  σ̄ the mean of σ over the image:
+// each pixel then has e² = E²·σ/σ̄ and the image's mean e² is E². A pixel takes part in the
+// next pass while n < n*. (Stopping each pixel at e ≤ E instead gives it n ∝ σ² passes: the
+// heavy-tailed pixels took most of the samples, and on the street the image reached a given
+// error 2.5–3.5× later than uniform sampling, docs/adaptive-sampling.md.) σ̄ and σ change as
+// passes come, so a pixel may stop and go on again; it never takes part twice in one pass.
+//
+// One pixel's σ² from a few passes is itself noisy and heavy tailed, and it is correlated with
+// the pixel's mean: where rare samples are bright, a pixel whose bright samples have not come
+// yet looks both darker and quieter. Deciding on it biased the furnace low (−0.5 % with pt,
+// −0.75 % with bdpt, z ≈ 3–4 over 32 renders), and on the street the pixels that had met a
+// bright sample took up to 1024 passes while their neighbours stopped at 16. So σ² is the
+// median over the pixel's 5×5 neighbourhood: one bright pixel moves it little, and the
+// pixel's own passes are one of 25. No pixel stops before kNoiseMinPasses passes.
+//
+// Decisions are made at passes 16, 20, 24, 28, 32, 40, 48, … (every quarter of the power of
+// two below, at least 4: noiseDecisionPass); in between, the pixels that took part in the
+// last pass go on. (A decision reads every pixel's neighbourhood: made after every pass, it
+// cost as much as the pass itself once few pixels were left.)
 //
 // A function of the film alone: the same bits for any thread count and after a resume.
 #pragma once
@@ -40,15 +57,17 @@ std::vector<float> pixelVariances(const Film& film);
 struct NoiseState {
     int active = 0;           // pixels that go on
     double meanSquared = 0;   // the mean e² over the image: its estimated relative MSE
-    // The pixel samples the active pixels still need, as e² ∝ 1/n says: a pixel with n
-    // passes whose neighbourhood mean is w needs n·(w/E² − 1) more, at most maxPasses − n.
+    // The pixel samples the active pixels still need: n* − n each, n* at most maxPasses.
     double samplesLeft = 0;
 };
 
-// For a film that tracks noise: active[i] = 1 for the pixels that took part in every pass so
-// far and have not reached `threshold` (with fewer than kNoiseMinPasses passes, or
-// threshold ≤ 0, every pixel that took part in every pass). Resizes `active`. `maxPasses`
-// bounds samplesLeft (0: no estimate).
+// Whether a film with this many passes chooses its pixels anew.
+bool noiseDecisionPass(int passes);
+
+// For a film that tracks noise: at a decision pass, active[i] = 1 for the pixels with fewer
+// passes than their n* for `threshold` E; between decisions, for those that took part in the
+// last pass (with fewer than kNoiseMinPasses passes, or threshold ≤ 0, every pixel). Resizes
+// `active`. `maxPasses` bounds samplesLeft (0: no estimate; made at decisions only).
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
 
 }  // namespace brume

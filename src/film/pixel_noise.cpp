@@ -54,7 +54,7 @@ NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>
         return state;
     }
     if (!noiseDecisionPass(film.passes())) {
-        // Between decisions: the pixels that took part in the last pass go on.
+        // Between decisions: the pixels that have not stopped go on.
         for (size_t i = 0; i < count; ++i) {
             active[i] = film.samples(i) == film.passes() ? 1 : 0;
             state.active += active[i];
@@ -79,7 +79,7 @@ NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>
     const double scale = meanSigma / (threshold * threshold);  // n* = σ · σ̄ / E²
     for (size_t i = 0; i < count; ++i) {
         const double target = sigma[i] * scale, n = film.samples(i);
-        if (!(n < target)) {
+        if (film.samples(i) != film.passes() || !(n < target)) {  // (stopped before, or now)
             active[i] = 0;
             continue;
         }

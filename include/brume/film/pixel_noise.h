@@ -17,10 +17,10 @@
 // n ∝ σ (Lagrange: minimise Σ σ²/n subject to Σ n fixed), and reaches E² with
 //   n* = σ · σ̄ / E²,  σ̄ the mean of σ over the image:
 // each pixel then has e² = E²·σ/σ̄ and the image's mean e² is E². A pixel takes part in the
-// next pass while n < n*. (Stopping each pixel at e ≤ E instead gives it n ∝ σ² passes: the
-// heavy-tailed pixels took most of the samples, and on the street the image reached a given
-// error 2.5–3.5× later than uniform sampling, docs/adaptive-sampling.md.) σ̄ and σ change as
-// passes come, so a pixel may stop and go on again; it never takes part twice in one pass.
+// next pass while n < n*, and once it stops it has stopped for good (its passes are then one
+// prefix of its Sobol sequence). (Stopping each pixel at e ≤ E instead gives it n ∝ σ²
+// passes: the heavy-tailed pixels took most of the samples, and on the street the image
+// reached a given error 2.5–3.5× later than uniform sampling, docs/adaptive-sampling.md.)
 //
 // One pixel's σ² from a few passes is itself noisy and heavy tailed, and it is correlated with
 // the pixel's mean: where rare samples are bright, a pixel whose bright samples have not come
@@ -64,9 +64,9 @@ struct NoiseState {
 // Whether a film with this many passes chooses its pixels anew.
 bool noiseDecisionPass(int passes);
 
-// For a film that tracks noise: at a decision pass, active[i] = 1 for the pixels with fewer
-// passes than their n* for `threshold` E; between decisions, for those that took part in the
-// last pass (with fewer than kNoiseMinPasses passes, or threshold ≤ 0, every pixel). Resizes
+// For a film that tracks noise: at a decision pass, active[i] = 1 for the pixels that took
+// part in every pass so far and have fewer than their n* for `threshold` E; between
+// decisions, for those that took part in every pass (with fewer than kNoiseMinPasses passes, or threshold ≤ 0, every pixel). Resizes
 // `active`. `maxPasses` bounds samplesLeft (0: no estimate; made at decisions only).
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
 

@@ -62,11 +62,15 @@ std::vector<float> Film::rgb() const {
 // The left-out passes came before any pixel stopped (renderer.cpp starts stopping after
 // the integrator's learning passes), so every pixel took part in them.
 std::vector<float> Film::rgbWithout(int passes, const std::vector<Sum>& sums) const {
+    return rgbWithout(passes, sums, [](int) { return true; });
+}
+
+std::vector<float> Film::rgbWithout(int passes, const std::vector<Sum>& sums, const std::function<bool(int)>& leaveOut) const {
     if (passes <= 0 || passes >= passes_ || sums.size() != sum_.size()) return rgb();
-    std::vector<float> out(sum_.size(), 0.0f);
+    std::vector<float> out = rgb();
     for (size_t p = 0; p < sum_.size() / 3; ++p) {
         const int n = samples(p) - passes;
-        if (n <= 0) continue;
+        if (n <= 0 || !leaveOut(n)) continue;
         const double inv = 1.0 / n;
         for (size_t i = 3 * p; i < 3 * p + 3; ++i) out[i] = float(fromFixed(sum_[i] - sums[i]) * inv);
     }

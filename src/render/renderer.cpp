@@ -391,9 +391,14 @@ std::vector<float> finalImage(const Film& film, const Integrator& integrator, Sa
     const Integrator::LeftOutPasses out = integrator.leftOut();
     const int others = film.passes() - out.passes;
     if (out.passes <= 0 || !out.sums || others <= 0) return film.rgb();
-    const bool noisier = out.noise > 2.0 + double(out.passes) / others;
-    const bool outnumbered = sampler == SamplerKind::Sobol && others >= kLeftOutRatio * out.passes;
-    return noisier || outnumbered ? film.rgbWithout(out.passes, *out.sums) : film.rgb();
+    // Per pixel, with the passes it keeps without them (fewer where adaptive sampling stopped it).
+    auto leaveOut = [&](int n) {
+        const bool noisier = out.noise > 2.0 + double(out.passes) / n;
+        const bool outnumbered = sampler == SamplerKind::Sobol && n >= kLeftOutRatio * out.passes;
+        return noisier || outnumbered;
+    };
+    if (!film.tracksNoise()) return leaveOut(others) ? film.rgbWithout(out.passes, *out.sums) : film.rgb();
+    return film.rgbWithout(out.passes, *out.sums, leaveOut);
 }
 
 }  // namespace brume

@@ -18,6 +18,7 @@
 // pixel() is sum / that count. A film that does not track noise keeps neither.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "brume/integrators/splat_list.h"
@@ -75,6 +76,10 @@ public:
     // The mean over the completed passes but `passes` of them, whose exact sums are `sums`
     // (3 per pixel, as sums()); rgb() if that leaves none or the sums do not fit.
     std::vector<float> rgbWithout(int passes, const std::vector<FixedSum>& sums) const;
+    // The same where `leaveOut(n)` holds for the n passes a pixel keeps without them (a film
+    // that tracks noise: pixels that stopped early keep fewer), the plain mean elsewhere.
+    std::vector<float> rgbWithout(int passes, const std::vector<FixedSum>& sums,
+                                  const std::function<bool(int)>& leaveOut) const;
     // Back to black, zero passes.
     void clear();
 

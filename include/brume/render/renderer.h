@@ -99,6 +99,8 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
 //     the error of as many independent samples (on a lamp in thin fog, 4 s: relative MSE
 //     4.6e-6 with them in the image, 2.4e-6 without, docs/mis.md). That costs at most
 //     1/(1 + kLeftOutRatio) of the samples.
+// Under adaptive sampling each pixel decides by the passes it keeps (a pixel stopped early
+// keeps them all when they are more than a small share of its own).
 // A function of the film and the integrator's state alone: the same bits after any thread
 // count, rank count or resume.
 constexpr int kLeftOutRatio = 4;

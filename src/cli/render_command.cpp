@@ -259,9 +259,10 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
                   a.checkpointEveryGiven = true;
               });
     addOption(app, "--noise-threshold", "E",
-              "adaptive sampling: stop each pixel once its estimated relative error (as bench's relative MSE "
-              "weighs errors, square-rooted) is at most E, after 16 passes, and the render once every pixel has; "
-              "--spp or --time bound it (default: at most " + std::to_string(kAdaptiveMaxSpp) + " spp); docs/adaptive-sampling.md",
+              "adaptive sampling: render until the image's estimated relative error (the square root of its "
+              "relative MSE as bench weighs errors) is E, each pixel taking as many passes as reach that soonest "
+              "(chosen at passes 16, 20, 24, 28, 32, 40, ...); --spp or --time bound it (default: at most " +
+                  std::to_string(kAdaptiveMaxSpp) + " spp); docs/adaptive-sampling.md",
               [&](const std::string& v) {
                   a.noiseThreshold = parsePositiveNumber("--noise-threshold", v, 1e6);
               });

@@ -33,9 +33,10 @@ struct RenderOptions {
     int firstPass = -1;
     int passStride = 1;
     bool progress = false;      // progress bar on stderr
-    // Adaptive stopping (film/pixel_noise.h): > 0 stops each pixel once its estimated
-    // relative error reaches it, and the render once every pixel has (or spp or the time
-    // budget ends it first). Pixels stop only between passes, after kNoiseMinPasses and the
+    // Adaptive sampling (film/pixel_noise.h): > 0 is the image's relative error to reach;
+    // each pixel stops after the passes that reach it soonest, and the render once every
+    // pixel has (or spp or the time budget ends it first). Pixels stop only between passes,
+    // at the decision passes, after kNoiseMinPasses and the
     // integrator's learning passes (Integrator::learning): a stopped pixel takes no sample
     // and keeps no splat, and a pass's light-tracing splats are scaled by pixels / pixels
     // that took part (each such pixel traced one light subpath: the estimate stays

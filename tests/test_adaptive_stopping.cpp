@@ -14,6 +14,7 @@
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/renderer.h"
 #include "support/pixel_estimates.h"
+#include "support/single_scatter_reference.h"
 
 using namespace brume;
 using namespace brume::test;
@@ -214,4 +215,58 @@ TEST_CASE("adaptive stopping: the furnace is still 1 in every pixel (pt, and bdp
         CHECK(worst < bound);
         CHECK(std::abs(zImage) < 4.0);
     }
+}
+
+// Single scattering under adaptive sampling, against 1D quadrature: pt at --max-depth 1 on
+// single_near.gltf, 8×8 pixels stopping for E = 0.1 (about 27 of at most 64 passes), 32 renders; each
+// pixel's reference is the quadrature averaged over an 8×8 grid of film positions (the film
+// jitters inside the pixel). The pixel holding the light is left out (its integrand peaks
+// within it). Bonferroni z bound per pixel and channel, |z| < 4 for the image mean.
+TEST_CASE("adaptive stopping: single scattering still matches quadrature", "[adaptive][oracle][sanitizer-skip]") {
+    auto scene = loadTestScene("single_near.gltf");
+    const int W = 8, batches = 32, S = 8;
+    const Vec3 light(0.3f, 0.2f, -3), I(10.0f);
+    std::vector<Vec3> ref(size_t(W) * W);
+    size_t brightest = 0;
+    for (size_t i = 0; i < ref.size(); ++i) {
+        Vec3 sum(0.0f);
+        for (int j = 0; j < S; ++j)
+            for (int k = 0; k < S; ++k)
+                sum += singleScatterReference(referenceCameraDirection(int(i) % W + (k + 0.5) / S, int(i) / W + (j + 0.5) / S, W, W, kYfov),
+                                              light, I, Vec3(0.2f), Vec3(0.05f), 0.3, nullptr, 2000);
+        ref[i] = sum / float(S * S);
+        if (ref[i].x > ref[brightest].x) brightest = i;
+    }
+    std::vector<PixelEstimate> px(ref.size());
+    PixelEstimate image;  // each render's mean over pixels of (pixel / reference − 1)
+    double spp = 0;
+    for (int b = 0; b < batches; ++b) {
+        Film film(W, W);
+        render(*scene, PathTracer(PathTracerOptions{1, true, ConnectMode::Mis}), adaptiveOptions(W, 64, 0.1, 900 + uint64_t(b), 2), film);
+        spp += meanSamples(film) / batches;
+        double bias = 0;
+        for (size_t i = 0; i < px.size(); ++i) {
+            const Spectrum v = film.pixel(int(i) % W, int(i) / W);
+            for (int c = 0; c < 3; ++c) {
+                px[i].sum[c] += v[c];
+                px[i].sum2[c] += double(v[c]) * v[c];
+                if (i != brightest) bias += (v[c] / ref[i][c] - 1.0) / (3.0 * double(px.size() - 1));
+            }
+            ++px[i].n;
+        }
+        image.sum[0] += bias;
+        image.sum2[0] += bias * bias;
+        ++image.n;
+    }
+    INFO("mean spp " << spp);
+    CHECK(spp < 60);
+    CHECK(spp > 20);
+    const double bound = zBound(int(px.size() - 1) * 3);
+    double worst = 0;
+    for (size_t i = 0; i < px.size(); ++i)
+        for (int c = 0; i != brightest && c < 3; ++c) worst = std::max(worst, std::abs(px[i].mean(c) - ref[i][c]) / px[i].stderror(c));
+    const double zImage = image.mean(0) / image.stderror(0);
+    INFO("worst |z| " << worst << " (bound " << bound << "); mean relative difference " << image.mean(0) << " ± " << image.stderror(0));
+    CHECK(worst < bound);
+    CHECK(std::abs(zImage) < 4.0);
 }

@@ -19,21 +19,22 @@
 // each pixel then has e² = E²·σ/σ̄ and the image's mean e² is E². A pixel takes part in the
 // next pass while n < n*, and once it stops it has stopped for good (its passes are then one
 // prefix of its Sobol sequence). (Stopping each pixel at e ≤ E instead gives it n ∝ σ²
-// passes: the heavy-tailed pixels took most of the samples, and on the street the image
-// reached a given error 2.5–3.5× later than uniform sampling, docs/adaptive-sampling.md.)
+// passes: on the street 5 % of the pixels were still going on at 1024 passes, half the
+// samples, and the image reached a given error 1.6–3.5× later than uniform sampling,
+// docs/adaptive-sampling.md.)
 //
 // One pixel's σ² from a few passes is itself noisy and heavy tailed, and it is correlated with
 // the pixel's mean: where rare samples are bright, a pixel whose bright samples have not come
 // yet looks both darker and quieter. Deciding on it biased the furnace low (−0.5 % with pt,
-// −0.75 % with bdpt, z ≈ 3–4 over 32 renders), and on the street the pixels that had met a
-// bright sample took up to 1024 passes while their neighbours stopped at 16. So σ² is the
+// −0.75 % with bdpt, z ≈ 3–4 over 32 renders), and a pixel that had met a bright sample kept
+// going while its neighbours stopped. So σ² is the
 // median over the pixel's 5×5 neighbourhood: one bright pixel moves it little, and the
 // pixel's own passes are one of 25. No pixel stops before kNoiseMinPasses passes.
 //
 // Decisions are made at passes 16, 20, 24, 28, 32, 40, 48, … (every quarter of the power of
-// two below, at least 4: noiseDecisionPass); in between, the pixels that took part in the
-// last pass go on. (A decision reads every pixel's neighbourhood: made after every pass, it
-// cost as much as the pass itself once few pixels were left.)
+// two below, at least 4: noiseDecisionPass); in between, the pixels not stopped go on. (A
+// decision reads every pixel's 5×5 neighbourhood; between decisions a pass costs what its
+// pixels cost and a scan of the image.)
 //
 // A function of the film alone: the same bits for any thread count and after a resume.
 #pragma once

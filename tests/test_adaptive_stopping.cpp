@@ -113,7 +113,7 @@ TEST_CASE("pixel noise: quiet pixels stop at decisions, noisy regions go on, a l
         const float a = pass % 2 ? 2.0f : 0.0f;
         addPass(film, {a, a, a, 1, 1, 1, pass == 3 ? 9.0f : 1.0f}, all);
     }
-    NoiseState s = activePixels(film, 0.01, active, 1000);
+    NoiseState s = activePixels(film, 0.2, active, 1000);
     // The median σ² over 5×5 (here 5×1) neighbourhoods: pixels 0–2 have at least half noisy
     // neighbours, 3–6 do not (pixel 6's own bright pass is one of three).
     CHECK(std::vector<int>(active.begin(), active.end()) == std::vector<int>{1, 1, 1, 0, 0, 0, 0});
@@ -121,17 +121,23 @@ TEST_CASE("pixel noise: quiet pixels stop at decisions, noisy regions go on, a l
     double e2 = 0;
     for (size_t i = 0; i < 7; ++i) e2 += pixelRelativeVariance(film, i) / 7;
     CHECK(s.meanSquared == Approx(e2));
-    // n* = σ σ̄ / E² with σ² = 16 e² of the noisy pixels, σ̄ = 3σ/7.
+    // n* = K σ with σ² = 16 e² of the noisy pixels: they will have e² 16/n* = σ/K, pixel 6
+    // keeps its e², so K = (3σ/7) / (E² − e6²/7).
     const double sigma = std::sqrt(16 * pixelRelativeVariance(film, 0));
-    CHECK(s.samplesLeft == Approx(3 * (std::min(1000.0, sigma * (3 * sigma / 7) / 1e-4) - 16)));
+    const double K = (3 * sigma / 7) / (0.04 - pixelRelativeVariance(film, 6) / 7);
+    REQUIRE(K * sigma > 16);
+    CHECK(s.samplesLeft == Approx(3 * (K * sigma - 16)));
+    // At E = 0.01 pixel 6's error alone is above E²: the noisy pixels go on to the most passes.
+    CHECK(activePixels(film, 0.01, active, 1000).samplesLeft == Approx(3 * (1000 - 16)));
     // Between decisions the pixels of the last pass go on, whatever the threshold.
     addPass(film, {0, 0, 0, 1, 1, 1, 1}, {true, true, true, false, false, false, false});
     CHECK(activePixels(film, 1e3, active).active == 3);
     CHECK(film.samples(3) == kNoiseMinPasses);
     CHECK(film.samples(0) == kNoiseMinPasses + 1);
     CHECK(film.pixel(3, 0).x == Approx(1.0));
-    // Threshold 0 (as while the integrator learns): every pixel goes on.
-    CHECK(activePixels(film, 0.0, active).active == 7);
+    // Threshold 0 (as while the integrator learns) stops none, and restarts none.
+    CHECK(activePixels(film, 0.0, active).active == 3);
+    CHECK(activePixels(film, 0.0, active).samplesLeft == -1);
 }
 
 TEST_CASE("adaptive stopping: the same bits for 1 and 2 threads and across a resume (pt and bdpt)", "[adaptive]") {

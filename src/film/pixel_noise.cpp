@@ -5,28 +5,32 @@
 
 namespace brume {
 
+namespace {
+
+// s²/n of channel value c (3·pixel + channel) of a pixel with n ≥ 2 passes, and its mean.
+double meanVariance(const Film& film, size_t c, int n, double* mean) {
+    const double S = fromFixed(film.sums()[c]), Q = fromFixed(film.squares()[c]);
+    *mean = S / n;
+    return std::max(0.0, (Q - S * *mean) / (n - 1)) / n;
+}
+
+}  // namespace
+
 double pixelRelativeVariance(const Film& film, size_t i) {
     const int n = film.samples(i);
     if (n < 2) return HUGE_VAL;
-    double e2 = 0;
-    for (size_t c = 3 * i; c < 3 * i + 3; ++c) {
-        const double S = fromFixed(film.sums()[c]), Q = fromFixed(film.squares()[c]);
-        const double m = S / n;
-        const double spread = std::max(0.0, (Q - S * m) / (n - 1));  // s²
-        e2 += spread / n / (m * m + kRelativeErrorEpsilon);
-    }
+    double e2 = 0, m;
+    for (size_t c = 3 * i; c < 3 * i + 3; ++c) e2 += meanVariance(film, c, n, &m) / (m * m + kRelativeErrorEpsilon);
     return e2 / 3;
 }
 
 std::vector<float> pixelVariances(const Film& film) {
     std::vector<float> out(film.sums().size(), 0.0f);
+    double m;
     for (size_t i = 0; i < out.size() / 3; ++i) {
         const int n = film.samples(i);
         if (n < 2) continue;
-        for (size_t c = 3 * i; c < 3 * i + 3; ++c) {
-            const double S = fromFixed(film.sums()[c]), Q = fromFixed(film.squares()[c]);
-            out[c] = float(std::max(0.0, (Q - S * (S / n)) / (n - 1)) / n);
-        }
+        for (size_t c = 3 * i; c < 3 * i + 3; ++c) out[c] = float(meanVariance(film, c, n, &m));
     }
     return out;
 }
@@ -41,50 +45,52 @@ bool noiseDecisionPass(int passes) {
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
     const int w = film.width(), h = film.height();
     const size_t count = size_t(w) * size_t(h);
-    active.assign(count, 1);
     NoiseState state;
-    std::vector<float> spread(count);  // σ² = n·e², the relative variance of one pass
+    // The pixels not stopped before; a stopped pixel stays stopped.
+    active.resize(count);
+    std::vector<double> e2(count);
     for (size_t i = 0; i < count; ++i) {
-        const double e2 = pixelRelativeVariance(film, i);
-        state.meanSquared += e2 / double(count);
-        spread[i] = float(std::min(e2 * film.samples(i), 1e30));
+        e2[i] = pixelRelativeVariance(film, i);
+        state.meanSquared += e2[i] / double(count);
+        active[i] = film.samples(i) == film.passes() ? 1 : 0;
+        state.active += active[i];
     }
-    if (!(threshold > 0) || film.passes() < kNoiseMinPasses) {
-        state.active = int(count);
-        return state;
-    }
-    if (!noiseDecisionPass(film.passes())) {
-        // Between decisions: the pixels that have not stopped go on.
-        for (size_t i = 0; i < count; ++i) {
-            active[i] = film.samples(i) == film.passes() ? 1 : 0;
-            state.active += active[i];
-        }
-        return state;
-    }
-    // σ² as the median over the 5×5 neighbourhood, and σ's mean over the image.
+    if (!(threshold > 0) || !noiseDecisionPass(film.passes())) return state;
+    // A decision: σ² = n·e² (the relative variance of one pass) as the median over the 5×5
+    // neighbourhood.
     std::vector<double> sigma(count);
-    double meanSigma = 0;
     float window[25];
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             int n = 0;
             for (int yy = std::max(0, y - 2); yy <= std::min(h - 1, y + 2); ++yy)
-                for (int xx = std::max(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx)
-                    window[n++] = spread[size_t(yy) * size_t(w) + size_t(xx)];
+                for (int xx = std::max(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx) {
+                    const size_t j = size_t(yy) * size_t(w) + size_t(xx);
+                    window[n++] = float(std::min(e2[j] * film.samples(j), 1e30));
+                }
             std::nth_element(window, window + n / 2, window + n);
             const size_t i = size_t(y) * size_t(w) + size_t(x);
             sigma[i] = std::sqrt(double(window[n / 2]));
-            meanSigma += sigma[i] / double(count);
         }
-    const double scale = meanSigma / (threshold * threshold);  // n* = σ · σ̄ / E²
+    // n* = K·σ, K such that the image's predicted mean e² is E²: a pixel that goes on to n*
+    // passes will have e²·n/n*; one that stops (σ = 0, or stopped before) keeps its e².
+    double kept = 0, going = 0;  // (each summed over the image, / pixel count)
+    for (size_t i = 0; i < count; ++i) {
+        if (active[i] && sigma[i] > 0) going += e2[i] * film.samples(i) / sigma[i] / double(count);
+        else kept += e2[i] / double(count);
+    }
+    const double bound = threshold * threshold;
+    const double scale = bound > kept ? going / (bound - kept) : HUGE_VAL;
+    state.samplesLeft = 0;
     for (size_t i = 0; i < count; ++i) {
         const double target = sigma[i] * scale, n = film.samples(i);
-        if (film.samples(i) != film.passes() || !(n < target)) {  // (stopped before, or now)
+        if (!active[i]) continue;
+        if (!(n < target)) {
             active[i] = 0;
-            continue;
+            --state.active;
+        } else if (maxPasses > 0) {
+            state.samplesLeft += std::max(0.0, std::min(target, double(maxPasses)) - n);
         }
-        ++state.active;
-        if (maxPasses > 0) state.samplesLeft += std::max(0.0, std::min(target, double(maxPasses)) - n);
     }
     return state;
 }

@@ -330,6 +330,7 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     // Adaptive stopping: the pixels taking part in the next pass, decided from the film alone
     // (and the integrator's learning, itself restored with a checkpoint).
     std::vector<uint8_t> active;
+    double secondsLeft = -1, leftAt = 0;
     auto decide = [&](int pass) -> const std::vector<uint8_t>* {
         if (!adaptive) return nullptr;
         const bool deciding = !integrator.learning(pass);
@@ -337,11 +338,16 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
                                               options.timeBudget > 0 ? 0 : film.passes() + options.spp - stats.passes);
         stats.activePixels = noise.active;
         stats.estimatedRelMse = noise.meanSquared;
-        // The time left at this render's pace per pixel sample (once pixels may stop).
-        const double perSample = stats.samples > 0 ? secondsSince(start) / double(stats.samples) : 0;
-        const bool known = deciding && film.passes() >= kNoiseMinPasses && perSample > 0 && options.timeBudget <= 0;
+        // The time left at this render's pace per pixel sample, estimated at decisions and
+        // counted down in between.
+        const double now = secondsSince(start);
+        if (noise.samplesLeft >= 0 && stats.samples > 0 && options.timeBudget <= 0) {
+            secondsLeft = noise.samplesLeft * now / double(stats.samples);
+            leftAt = now;
+        }
         progress.setNoise(std::isfinite(noise.meanSquared) ? std::sqrt(noise.meanSquared) : -1,
-                          double(noise.active) / double(active.size()), known ? noise.samplesLeft * perSample : -1);
+                          double(noise.active) / double(active.size()),
+                          secondsLeft >= 0 ? std::max(0.0, secondsLeft - (now - leftAt)) : -1);
         return noise.active == int(active.size()) ? nullptr : &active;
     };
     {

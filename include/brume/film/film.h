@@ -12,7 +12,7 @@
 // the pass the renderer merges the lists.
 // pixel() = sum / passes.
 //
-// Adaptive sampling (render/pixel_noise.h) stops pixels one by one: a film that tracks noise
+// Adaptive sampling (film/pixel_noise.h) stops pixels one by one: a film that tracks noise
 // (trackNoise()) also keeps, per pixel, how many passes it took part in and the exact sums of
 // the squares of its values per pass (its sample plus that pass's splats on it), and its
 // pixel() is sum / that count. A film that does not track noise keeps neither.

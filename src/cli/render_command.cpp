@@ -579,7 +579,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     if (group.distributed() && !a.strategyDir.empty())
         throw UsageError("--strategy-images needs a single process (not mpirun)");
     if (group.distributed() && a.noiseThreshold > 0)
-        throw UsageError("--noise-threshold needs a single process (not mpirun): pixels stop after every pass");
+        throw UsageError("--noise-threshold needs a single process (not mpirun): pixels are chosen from the whole film between passes");
     if (group.distributed() && a.aovVariance)
         throw UsageError("--aov variance needs a single process (not mpirun): the ranks' films keep no squares");
     try {
@@ -747,7 +747,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     // The image is written even if the checkpoint cannot be, then the checkpoint's error is
     // reported. A complete render needs no checkpoint any more.
     std::exception_ptr checkpointError;
-    // (Adaptive stopping ends a render early once every pixel reached the threshold.)
+    // (Adaptive sampling ends a render early once every pixel has stopped.)
     const bool converged = a.noiseThreshold > 0 && !gInterrupted.load() && stats.passes > 0 && stats.activePixels == 0;
     const bool complete = a.seconds > 0 || film.passes() >= a.spp || converged;
     if (!a.checkpoint.empty() && !complete) {

@@ -416,6 +416,12 @@ TEST_CASE("bdpt MIS weights with equi-angular light connections (mis, equiangula
     }
 }
 
+// Transparent emitters (emitter_crossing.h): a crossing is weighed as the emitter hit s = 0
+// of a camera path that ends on it; every other strategy's path passes through it.
+TEST_CASE("bdpt MIS weights with transparent emitters", "[bdpt][mis][transparent]") {
+    for (ConnectMode m : {ConnectMode::Density, ConnectMode::Mis}) checkWeights("transparent_panels_fog.gltf", 4, m);
+}
+
 // Coloured fog (extinction ratio 11 between channels): the weights run over strategies ×
 // channels, each channel's densities its own.
 TEST_CASE("bdpt MIS weights in a coloured medium", "[bdpt][mis][chromatic]") {

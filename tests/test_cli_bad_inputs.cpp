@@ -102,6 +102,8 @@ const BadFile kBadFiles[] = {
     {"emission_missing_grid.gltf", "media[0].emission.uri: cannot open '"},
     {"emission_ambient_clear.gltf", "media[0].emission: the ambient medium emits in a channel where it has no extinction"},
     {"emission_ambient_grid.gltf", "media[0].emission: the ambient medium has a density grid and emission without a grid"},
+    {"camera_invisible_opaque.gltf", "materials[0].extras.cameraVisible: false needs \"transparent\": true"},
+    {"transparent_not_bool.gltf", "materials[0].extras.transparent: expected true or false"},
 };
 
 // The density grids the grid_*.gltf files point at (make_bad.py).

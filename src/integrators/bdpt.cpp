@@ -224,9 +224,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                                          options_.hooks.onlyS < 0
                                      ? maxScatter
                                      : 0;
+    // The transparent emitters its rays cross (emitter_crossing.h).
+    thread_local std::vector<CrossingVertex> crossings;
+    crossings.clear();
     const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
                                           camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f,
-                                          options_.heuristic, volumeLightsUpTo);
+                                          options_.heuristic, volumeLightsUpTo,
+                                          scene.hasTransparentEmitters() ? &crossings : nullptr);
     const uint64_t rays1 = stats.rays;
     // The light subpaths of a pass splat all over the image: their numbers come from one
     // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
@@ -304,6 +308,12 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 L += subpathConnection(c, s, t);
             }
         }
+    }
+    for (const CrossingVertex& x : crossings) {  // s = 0 on each, t = its index + 1
+        const int t = x.index + 1;
+        if (options_.maxDepth >= 0 && t - 2 > options_.maxDepth) continue;
+        if (options_.hooks.onlyS >= 0 && (options_.hooks.onlyS != 0 || options_.hooks.onlyT != t)) continue;
+        L += crossedEmitterHit(c, x);
     }
     if (learning) direct_->addCamera(std::min(px, width - 1), std::min(py, height - 1), directCamera);
     techniques.addTo(stats.techniques);

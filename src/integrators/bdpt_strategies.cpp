@@ -6,6 +6,7 @@
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/integrators/bdpt_subpaths.h"
 #include "brume/integrators/light_numbers.h"
+#include "brume/integrators/random_walk.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/visibility.h"
 #include "brume/integrators/volume_light_sampling.h"
@@ -267,6 +268,23 @@ Spectrum emitterHit(const StrategyContext& c, int t) {
     return std::isfinite(w) ? counted(c, StrategyKind::EmitterHit, false, contrib * w) : Spectrum(0.0f);
 }
 
+// The camera path ending on the crossing: its vertices up to the ray's start, then the
+// crossing's vertex, with their densities and MIS sums as the walk's own (emitter_crossing.h).
+// Not recorded for the planner's statistics (they re-weigh records against the walk's own
+// vertex array, which does not hold this one).
+Spectrum crossedEmitterHit(const StrategyContext& c, const CrossingVertex& x) {
+    const int t = x.index + 1;
+    if (t == 2 && x.vertex.light >= 0 && !c.scene.cameraSees(x.vertex.light)) return Spectrum(0.0f);
+    thread_local std::vector<PathVertex> path;
+    path.assign(c.camera, c.camera + x.index);
+    path.push_back(x.vertex);
+    crossingPathDensities(c.scene, path.data(), t, c.width, c.height, c.mis.cameraGuide);
+    if (c.weighted) misPrefixes(c.scene, path.data(), t, true, c.mis);
+    const StrategyContext onPath{c.scene, c.options, c.mis, path.data(), t, c.light, c.nLight, c.weighted, c.sampler,
+                                 c.stats, c.width, c.height, nullptr, c.direct, c.directCamera, c.techniques};
+    return emitterHit(onPath, t);
+}
+
 Spectrum lightConnection(const StrategyContext& c, int t) {
     const Scene& scene = c.scene;
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
@@ -363,6 +381,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         Spectrum f;
         if (y.kind == VertexKind::Light) {
             if (scene.lights()[y.light].atInfinity()) continue;
+            if (!scene.cameraSees(y.light)) continue;  // (Material::cameraVisible)
             f = emitted(scene, y, toCam) * (dot(y.ng, y.ng) > 0 ? std::abs(dot(y.ng, toCam)) : 1.0f);
         } else {
             f = scatter(scene, y, toCam, y.wo, TransportMode::Importance);

@@ -33,7 +33,8 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
                        int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
-                       const GuidingField* guide, float pixelValue, MisHeuristic heuristic, int volumeLightsUpTo) {
+                       const GuidingField* guide, float pixelValue, MisHeuristic heuristic, int volumeLightsUpTo,
+                       std::vector<CrossingVertex>* crossings) {
     const Camera& cam = scene.camera();
     Ray ray = cam.generateRay(fx, fy, width, height);
     PathVertex& z0 = path[0];
@@ -45,7 +46,7 @@ int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int he
     z0.beta = Spectrum(1.0f);  // We·cosθ / p_dir = 1 for the pinhole
     WalkStart start{leaving(ray.o, Vec3(0.0f), ray.d), scene.cameraMedia(), Spectrum(1.0f),
                     cameraPdfDir(cam, ray.d, width, height), width, height, dim::Side::Camera, hero, passFrom, passFirstAt,
-                    guide, pixelValue, heuristic, volumeLightsUpTo};
+                    guide, pixelValue, heuristic, volumeLightsUpTo, crossings};
     return randomWalk(scene, start, TransportMode::Radiance, maxScatter, sampler, path, kMaxSubpathVertices, stats);
 }
 

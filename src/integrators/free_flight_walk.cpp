@@ -20,7 +20,7 @@ float channelWeight(const FlightEmission& e, const Channels& pass) {
 
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
                     Spectrum channels, Spectrum tracking, const Sampler& sampler, uint32_t dims, PathStats& stats,
-                    bool passThrough, FlightEmission* emission) {
+                    bool passThrough, FlightEmission* emission, std::vector<FlightCrossing>* crossings) {
     Flight f;
     const Ray ray{seg.o, seg.d, seg.end};
     BoundaryWalk walk(scene, seg, media, stats);
@@ -59,6 +59,8 @@ Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStac
             }
             if (isBlack(ms.weight)) break;  // flew to infinity through a medium
         }
+        if (crossings && piece.boundary && scene.transparentEmitter(piece.hit))
+            crossings->push_back(FlightCrossing{piece.t1, piece.hit, f.weight, f.fwd, f.rev, piece.index > 0});
         if (piece.hit.valid() && !piece.boundary) {
             f.end = Flight::End::Surface;
             f.t = piece.t1;

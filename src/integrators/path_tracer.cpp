@@ -408,6 +408,28 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const bool passLast = limited && nee && mode != ConnectMode::Density && !hittable &&
                           !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();
 
+    // Emission of the emitter at `hit`, reached along `ray` from the last vertex (strategy B),
+    // weighted against the light connections that could have made the same path.
+    auto emitterHit = [&](const SurfaceHit& hit) {
+        const Spectrum Le = scene.emission(hit, -ray.d);
+        if (isBlack(Le) || !nee || specularBounce) return Le;
+        const int li = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
+        const Light& light = scene.lights()[li];
+        const float pick = scene.lightDistribution().pmf(li);
+        const float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
+        if (!prevInMedium) return Le * powerHeuristic(prevPdf, pick * pL);
+        const StrategyDensities p =
+            densitiesOf(scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf}, mode, prevTables);
+        return Le * powerWeight(p.b, p);
+    };
+    // A transparent emitter the ray crosses (Material::transparent; a boundary piece's end):
+    // its emission, as if the ray had ended there, and the walk goes on unchanged. Nothing
+    // from one the camera does not see reaches the pinhole straight (depth 0).
+    auto crossing = [&](const BoundaryPiece& piece) {
+        const Material* m = piece.boundary ? scene.transparentEmitter(piece.hit) : nullptr;
+        if (m && (depth > 0 || m->cameraVisible)) L += counted(PathTracerTechnique::EmitterHit, beta * emitterHit(piece.hit));
+    };
+
     for (int guard = 0; guard < 100000; ++guard) {
         if (limited && depth >= maxDepth && !hittable) break;
         const bool passing = passLast && depth + 1 == maxDepth;
@@ -422,8 +444,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const uint32_t repeat = uint32_t(piece.index);
             const Medium* m = piece.medium;
             if (!m) {
-                if (piece.boundary) continue;
-                break;
+                if (!piece.boundary) break;
+                crossing(piece);
+                continue;
             }
             MediumSegment seg{ray.o + ray.d * piece.t0, ray.d, piece.t1 - piece.t0, m};
             tables.clear();
@@ -466,6 +489,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (passing) {  // (above) weight T
                 beta *= m->transmittance(Ray{ray.o, ray.d}, piece.t0, piece.t1);
                 if (isBlack(beta) || !piece.boundary) break;
+                crossing(piece);
                 continue;
             }
             // Free flight over the piece: weight T·σs/p_scatter or T/P_pass, p the mixture
@@ -490,6 +514,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             }
             if (isBlack(ms.weight)) break;  // flew to infinity through a medium: T = 0
             if (!piece.boundary) break;
+            crossing(piece);
         }
         media = walk.media();
         if (scattered) {
@@ -536,24 +561,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!hit.valid() || piece.boundary || isBlack(beta)) break;
 
             // Emission reached by the camera ray or by BSDF/phase sampling (strategy B).
-            Spectrum Le = scene.emission(hit, -ray.d);
-            if (!isBlack(Le)) {
-                float w = 1.0f;
-                if (nee && !specularBounce) {
-                    int li = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
-                    const Light& light = scene.lights()[li];
-                    float pick = scene.lightDistribution().pmf(li);
-                    float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
-                    if (prevInMedium) {
-                        const StrategyDensities p = densitiesOf(
-                            scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf}, mode, prevTables);
-                        w = powerWeight(p.b, p);
-                    } else {
-                        w = powerHeuristic(prevPdf, pick * pL);
-                    }
-                }
-                L += counted(PathTracerTechnique::EmitterHit, beta * Le * w);
-            }
+            L += counted(PathTracerTechnique::EmitterHit, beta * emitterHit(hit));
             if (hit.sphereLight >= 0) break;  // sphere lights are opaque emitters
             if (++depth > maxDepth) break;
 

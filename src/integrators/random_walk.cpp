@@ -64,6 +64,11 @@ void edgeDensities(const Scene& scene, PathVertex* path, int count, int width, i
 
 }  // namespace
 
+void crossingPathDensities(const Scene& scene, PathVertex* path, int count, int width, int height,
+                           const GuidingField* guide) {
+    edgeDensities(scene, path, count, width, height, false, true, guide);
+}
+
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats) {
     int count = walk(scene, start, mode, maxScatter, sampler, path, maxVertices, stats);
@@ -105,11 +110,39 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         emission.againstVolumeLights = count - 1 >= 1 && count - 1 <= start.volumeLightsUpTo && !prev.delta;
         emission.dirPdf = pdfDir;
         const bool gathers = start.side == dim::Side::Camera && scene.hasEmissiveMedia();
+        thread_local std::vector<FlightCrossing> crossed;
+        crossed.clear();
         Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, throughputChannels(beta), sampler, dims, stats,
                                 count >= start.passFrom || (count == start.passFirstAt && !prev.delta),
-                                gathers ? &emission : nullptr);
+                                gathers ? &emission : nullptr, start.crossings ? &crossed : nullptr);
         v.edgeEnd = f.firstEnd;
         v.edgeEmission = beta * emission.gathered;
+        for (const FlightCrossing& x : crossed) {  // (emitter_crossing.h) as the vertex the ray would make there
+            start.crossings->push_back(CrossingVertex{count, v});
+            PathVertex& y = start.crossings->back().vertex;
+            y.ghost = false;
+            y.edgeEmission = Spectrum(0.0f);
+            y.kind = VertexKind::Surface;
+            y.p = x.hit.p;
+            y.ng = x.hit.ng;
+            y.ns = x.hit.ns;
+            y.u = x.hit.u;
+            y.v = x.hit.v;
+            y.mesh = x.hit.mesh;
+            y.triangle = x.hit.triangle;
+            y.light = scene.triangleLight(x.hit.mesh, x.hit.triangle);
+            y.edgeCrossed = x.crossedBefore;
+            y.wo = -ray.d;
+            y.media = media;
+            y.beta = beta * x.weight;
+            y.edgeDist = x.t;
+            y.edgeFwdFreeFlight = x.fwd;
+            y.edgeRevFreeFlight = x.rev;
+            y.pdfFwd = solidAngleToArea(y, y.wo, pdfDir, x.t) * x.fwd;
+            y.channelRatio = prev.channelRatio;
+            if (x.fwd[start.hero] > 0)
+                for (int c = 0; c < 3; ++c) y.channelRatio[c] *= x.fwd[c] / x.fwd[start.hero];
+        }
         if (f.end == Flight::End::Escape) return count;
         beta *= f.weight;
         media = f.media;

@@ -105,6 +105,20 @@ Material convert(const Source& src, const tinygltf::Material& gm, const std::str
     else
         m.kind = m.metallic > 0 ? MaterialKind::Glossy : MaterialKind::Diffuse;
     m.doubleSided = gm.doubleSided;
+
+    // extras "transparent" (a light surface that rays cross, as Cycles' lights) and
+    // "cameraVisible" (false: camera rays do not see it).
+    auto flag = [&](const char* key, bool fallback) {
+        const tinygltf::Value* v = member(gm.extras, key);
+        if (!v) return fallback;
+        if (!v->IsBool()) src.fail(mf + ".extras." + key, "expected true or false");
+        return v->Get<bool>();
+    };
+    m.transparent = flag("transparent", false);
+    m.cameraVisible = flag("cameraVisible", true);
+    if (!m.cameraVisible && !m.transparent)
+        src.fail(mf + ".extras.cameraVisible", "false needs \"transparent\": true (an opaque surface would hide what lies behind it)");
+    if (m.transparent) m.kind = MaterialKind::Invisible;
     return m;
 }
 

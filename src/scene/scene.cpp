@@ -165,8 +165,10 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     }
 
     for (const Mesh& mesh : desc_.meshes)
-        if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible)
+        if (mesh.material >= 0 && desc_.materials[mesh.material].kind == MaterialKind::Invisible) {
             hasInvisibleBoundaries_ = true;
+            hasTransparentEmitters_ |= desc_.materials[mesh.material].isEmissive();
+        }
     for (const Medium& m : desc_.media) {
         if (!m.grey()) mediumChannels_ = 3;
         hasEmissiveMedia_ |= m.emissive();

@@ -240,6 +240,55 @@ def bdpt_quad_fogbox(name):
     return b.write(out(name))
 
 
+# Transparent emitters (Material::transparent, as Cycles' lights): test_transparent_emitters.
+PANEL_RADIANCE = 2.0
+WALL_ALBEDO = 0.5
+WALL_Z = -4.0
+LAMP_POS = (0.0, 0.0, -1.0)
+LAMP_INTENSITY = 3.0
+
+
+def transparent_emitter(b, name, emissive, camera_visible=True):
+    m = b.add_material(name, base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0, emissive=emissive)
+    b.materials[m]["extras"] = {"transparent": True}
+    if not camera_visible:
+        b.materials[m]["extras"]["cameraVisible"] = False
+    return m
+
+
+def transparent_panel(name, camera_visible):
+    """Closed form, in vacuum: a transparent panel (radiance PANEL_RADIANCE towards the camera,
+    filling the view at z = -2) in front of a diffuse wall (z = WALL_Z, albedo WALL_ALBEDO) lit
+    through the panel by a point light at LAMP_POS between the camera and the panel. The panel
+    emits away from the wall, so a pixel sees PANEL_RADIANCE (if the camera sees the panel) plus
+    the wall's albedo/pi x E."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    panel = transparent_emitter(b, "panel", (PANEL_RADIANCE,) * 3, camera_visible)
+    add_quad(b, "panel", (0.0, 0.0, -2.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), panel)
+    wall = b.add_material("wall", base_color=(WALL_ALBEDO,) * 3, metallic=0.0, roughness=1.0)
+    add_quad(b, "wall", (0.0, 0.0, WALL_Z), (5.0, 0.0, 0.0), (0.0, 5.0, 0.0), (0.0, 0.0, 1.0), wall)
+    b.add_light("lamp", "point", (1.0, 1.0, 1.0), LAMP_INTENSITY, translation=LAMP_POS)
+    return b.write(out(name))
+
+
+def transparent_panels_fog(name):
+    """Fog over a grey floor, a point light above a transparent panel that the camera sees
+    (facing down, so the lamp shines through it), and a second one the camera does not see,
+    facing the view from the right: bdpt against pt (test_transparent_emitters)."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, 0.8)
+    b.set_ambient(b.add_medium("fog", 0.3, 0.05, 0.3))
+    seen = transparent_emitter(b, "seen", (3.0, 3.0, 3.0))
+    unseen = transparent_emitter(b, "unseen", (2.0, 2.0, 2.0), camera_visible=False)
+    add_quad(b, "seen", (0.0, 0.3, -3.0), (0.4, 0.0, 0.0), (0.0, 0.0, 0.4), (0.0, -1.0, 0.0), seen)
+    add_quad(b, "unseen", (0.6, -0.1, -2.5), (0.0, 0.0, 0.3), (0.0, 0.3, 0.0), (-1.0, 0.0, 0.0), unseen)
+    grey = b.add_material("floor", base_color=(0.5, 0.5, 0.5), metallic=0.0, roughness=1.0)
+    add_quad(b, "floor", (0.0, -1.0, -3.0), (2.0, 0.0, 0.0), (0.0, 0.0, -2.0), (0.0, 1.0, 0.0), grey)
+    b.add_light("lamp", "point", (1.0, 1.0, 1.0), 4.0, translation=(0.0, 1.2, -3.0))
+    return b.write(out(name))
+
+
 WINDOW_CENTER = (-2.0, 1.8, -2.5)
 WINDOW_HALF = 0.5
 WINDOW_SUN_DIR = (1.0, -0.6, 0.2)  # direction of travel, normalized below
@@ -535,6 +584,10 @@ def main():
         single("area_sphere_back.gltf", (0.8, 0.5, -3.0), radius=0.3, anisotropy=-0.7),
         # Bidirectional vs unidirectional path tracing (test_bdpt*): small, everything lit.
         bdpt_quad_fogbox("bdpt_quad_fogbox.gltf"),
+        # Transparent emitters, seen and not seen by the camera (test_transparent_emitters).
+        transparent_panel("transparent_panel.gltf", camera_visible=True),
+        transparent_panel("transparent_panel_unseen.gltf", camera_visible=False),
+        transparent_panels_fog("transparent_panels_fog.gltf"),
         bdpt_window_fog("bdpt_window_fog.gltf"),
         bdpt_glass_sphere("bdpt_glass_sphere.gltf"),
         bdpt_glass_sphere("bdpt_glass_sphere_bulb.gltf", sphere_light_radius=0.1),

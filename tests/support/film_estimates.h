@@ -12,9 +12,12 @@
 namespace brume::test {
 
 // With block > 1, estimates are of block × block pixel averages (row-major over blocks).
+// sampler: Sobol (the renderer's default) or Independent, whose batch means are near normal
+// even at a few samples per pixel (Sobol's stratified light choice makes them take two
+// values or so there).
 inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator& integrator, int width,
                                                int height, int sppPerBatch, int batches, uint64_t seed,
-                                               int block = 1) {
+                                               int block = 1, SamplerKind sampler = SamplerKind::Sobol) {
     const int bw = width / block, bh = height / block;
     std::vector<PixelEstimate> px(size_t(bw) * bh);
     std::vector<Spectrum> acc(px.size());
@@ -26,6 +29,7 @@ inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator& i
         o.spp = sppPerBatch;
         o.seed = seed * 1000003ULL + uint64_t(b);
         o.threads = 2;
+        o.sampler = sampler;
         render(scene, integrator, o, film);
         std::fill(acc.begin(), acc.end(), Spectrum(0.0f));
         for (int y = 0; y < bh * block; ++y)
@@ -45,8 +49,9 @@ inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator& i
 
 // The same for an integrator made for these renders alone.
 inline std::vector<PixelEstimate> estimateFilm(const Scene& scene, Integrator&& integrator, int width, int height,
-                                               int sppPerBatch, int batches, uint64_t seed, int block = 1) {
-    return estimateFilm(scene, integrator, width, height, sppPerBatch, batches, seed, block);
+                                               int sppPerBatch, int batches, uint64_t seed, int block = 1,
+                                               SamplerKind sampler = SamplerKind::Sobol) {
+    return estimateFilm(scene, integrator, width, height, sppPerBatch, batches, seed, block, sampler);
 }
 
 }  // namespace brume::test

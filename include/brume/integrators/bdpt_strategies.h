@@ -14,6 +14,7 @@
 #include "brume/integrators/allocation_statistics.h"
 #include "brume/integrators/bdpt_mis.h"
 #include "brume/integrators/direct_light_tracing.h"
+#include "brume/integrators/emitter_crossing.h"
 
 namespace brume {
 
@@ -52,6 +53,9 @@ Spectrum mediumEmission(const StrategyContext& c);
 // next ray gathers (the only other strategy that makes these paths; grey scenes only).
 Spectrum volumeLightConnections(const StrategyContext& c, int upTo);
 Spectrum emitterHit(const StrategyContext& c, int t);
+// The emission of a transparent emitter the camera walk crossed (emitter_crossing.h), as the
+// emitter hit s = 0 of the path that ends there.
+Spectrum crossedEmitterHit(const StrategyContext& c, const CrossingVertex& x);
 Spectrum lightConnection(const StrategyContext& c, int t);
 void cameraConnection(const StrategyContext& c, int s, SplatList& splats);
 Spectrum subpathConnection(const StrategyContext& c, int s, int t);

@@ -4,6 +4,7 @@
 // sample.
 #pragma once
 #include "brume/guiding/guiding_field.h"
+#include "brume/integrators/emitter_crossing.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_vertex.h"
 
@@ -25,11 +26,13 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
 // vertex passFrom on, and at passFirstAt after a vertex that is not specular, the walk passes
 // through media (WalkStart). Returns the vertex count, z0 included. hero: the colour channel
 // that drives free flight in coloured media (both subpaths of a sample share it). guide and
-// pixelValue: guided directions and survival (WalkStart).
+// pixelValue: guided directions and survival (WalkStart). crossings: the transparent
+// emitters its rays cross (WalkStart; null: none wanted).
 int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
                        int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
                        const GuidingField* guide = nullptr, float pixelValue = -1.0f,
-                       MisHeuristic heuristic = MisHeuristic::Power, int volumeLightsUpTo = 0);
+                       MisHeuristic heuristic = MisHeuristic::Power, int volumeLightsUpTo = 0,
+                       std::vector<CrossingVertex>* crossings = nullptr);
 
 // Light subpath; 0 if no light can emit (or a directional light in an infinite medium, which
 // reaches nothing). cameraGuide: the camera walk's guide, for the reverse densities (WalkStart).

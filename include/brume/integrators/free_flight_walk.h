@@ -4,6 +4,7 @@
 // walk directions are the products over the pieces.
 #pragma once
 #include "brume/integrators/boundary_walk.h"
+#include "brume/integrators/emitter_crossing.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/sample_dimensions.h"
 
@@ -50,9 +51,11 @@ struct FlightEmission {
 // so that the choice enters no MIS weight and may follow the throughput. Numbers: dims + kDistance and
 // dims + kChannel, with the piece index as repeat. passThrough: no collision is sampled; every
 // medium piece is passed with weight T and forward density 1 (no numbers drawn). emission:
-// gathers emissive media's emission (camera walks; null: none).
+// gathers emissive media's emission (camera walks; null: none). crossings: where the flight
+// crossed transparent emitters before it ended (emitter_crossing.h; null: not wanted).
 Flight sampleFlight(const Scene& scene, const WalkSegment& seg, const MediumStack& media, bool startIsPoint,
                     Spectrum channels, Spectrum tracking, const Sampler& sampler, uint32_t dims, PathStats& stats,
-                    bool passThrough = false, FlightEmission* emission = nullptr);
+                    bool passThrough = false, FlightEmission* emission = nullptr,
+                    std::vector<FlightCrossing>* crossings = nullptr);
 
 }  // namespace brume

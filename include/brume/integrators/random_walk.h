@@ -4,6 +4,7 @@
 #include "brume/guiding/guiding_field.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/boundary_walk.h"
+#include "brume/integrators/emitter_crossing.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/sample_dimensions.h"
@@ -40,6 +41,9 @@ struct WalkStart {
     // lights (bdpt.cpp, volumeLightConnection): the rays leaving them weigh what they gather
     // against that. 0: none.
     int volumeLightsUpTo = 0;
+    // A camera walk appends here each transparent emitter its rays cross, as the vertex the
+    // ray would have made there (emitter_crossing.h; null: none wanted).
+    std::vector<CrossingVertex>* crossings = nullptr;
 };
 
 // path[0] is filled in by the caller (camera or light vertex). Appends vertices path[1..],
@@ -49,5 +53,11 @@ struct WalkStart {
 // path[0] included.
 int randomWalk(const Scene& scene, const WalkStart& start, TransportMode mode, int maxScatter, const Sampler& sampler,
                PathVertex* path, int maxVertices, PathStats& stats);
+
+// The densities of a camera path path[0 … count − 1] that ends on a crossing's vertex, as
+// randomWalk computes them for its own vertices (the last vertex's reverse ones are left to
+// the weights: bdpt_mis.h).
+void crossingPathDensities(const Scene& scene, PathVertex* path, int count, int width, int height,
+                           const GuidingField* guide);
 
 }  // namespace brume

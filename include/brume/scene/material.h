@@ -8,7 +8,7 @@ enum class MaterialKind {
     Diffuse,     // metallic == 0: Lambertian baseColor
     Glossy,      // metallic > 0: (1−metallic)·Lambert + metallic·GGX conductor, F0 = baseColor
     Dielectric,  // KHR_materials_transmission = 1: smooth glass with KHR_materials_ior
-    Invisible,   // a medium boundary with no material: index-matched, rays pass straight on
+    Invisible,   // a medium boundary with no material, or a transparent emitter: rays pass straight on
 };
 
 struct Material {
@@ -21,6 +21,14 @@ struct Material {
     Spectrum emission{0.0f};    // emissiveFactor × emissiveStrength [W/(m² sr)]
     int emissiveTexture = -1;   // multiplies emission
     bool doubleSided = false;   // emits from both faces
+    // A light surface as Cycles' lights are (extras "transparent"): kind Invisible, so every
+    // ray crosses it (none is shadowed, nothing reflects), and it still emits; a walk that
+    // crosses it gathers that emission (path_tracer.cpp, bdpt_crossings.h).
+    bool transparent = false;
+    // Seen by camera rays (extras "cameraVisible", only with "transparent"): Cycles 3.4 leaves
+    // area lights out of camera rays. Light reaching the pinhole straight from such a surface
+    // counts nothing, by any strategy; after a bounce it counts.
+    bool cameraVisible = true;
     bool isEmissive() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 

@@ -63,6 +63,20 @@ public:
     bool hasMedia() const { return !desc_.media.empty(); }
     // True if some mesh is an invisible medium boundary that rays pass through.
     bool hasInvisibleBoundaries() const { return hasInvisibleBoundaries_; }
+    // True if some emitter is a transparent light surface (Material::transparent): walks
+    // gather its emission where they cross it.
+    bool hasTransparentEmitters() const { return hasTransparentEmitters_; }
+    // The emitting material a ray crosses at `hit` if it is a transparent emitter, else null.
+    const Material* transparentEmitter(const SurfaceHit& hit) const {
+        if (!hasTransparentEmitters_ || hit.mesh < 0) return nullptr;
+        const Material& m = material(hit.mesh);
+        return m.transparent && m.isEmissive() ? &m : nullptr;
+    }
+    // Whether light leaving light `li` straight into the pinhole counts (Material::cameraVisible).
+    bool cameraSees(int li) const {
+        const Light& l = lights_[size_t(li)];
+        return l.mesh < 0 || material(l.mesh).cameraVisible;
+    }
     // Colour channels whose free-flight densities differ somewhere: 3 if some medium is
     // coloured (its extinction differs between channels), else 1 (the MIS over channels of
     // the bidirectional tracer then has one term, and costs nothing).
@@ -114,6 +128,7 @@ private:
     bool hasBoundedMedia_ = false;
     std::vector<MediumStack> lightMedia_;  // per light: front side; then per light: back side
     bool hasInvisibleBoundaries_ = false;
+    bool hasTransparentEmitters_ = false;
     int mediumChannels_ = 1;
     bool hasHittableLights_ = false;
     bool hasEmissiveMedia_ = false;

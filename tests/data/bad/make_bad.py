@@ -231,6 +231,17 @@ def bad_emission():
     with_fog("emission_ambient_grid.gltf", emission=[0.1, 0.1, 0.1], density={"uri": "smoke_ok.vdb"})
 
 
+def bad_light_surfaces():
+    """Material extras of light surfaces: cameraVisible false on an opaque material, and
+    transparent given as a string."""
+    b = base()
+    b.materials[0]["extras"] = {"cameraVisible": False}
+    write_json("camera_invisible_opaque.gltf", b.document())
+    b = base()
+    b.materials[0]["extras"] = {"transparent": "yes"}
+    write_json("transparent_not_bool.gltf", b.document())
+
+
 def main():
     valid_base()
     truncated_glb()
@@ -245,6 +256,7 @@ def main():
     cyclic_nodes()
     bad_grids()
     bad_emission()
+    bad_light_surfaces()
 
 
 if __name__ == "__main__":

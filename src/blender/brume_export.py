@@ -951,7 +951,8 @@ def export_scene(filepath, context=None, report=None):
     # Blender's glTF exporter scales nothing in light nodes, but a light object's scale does not
     # scale its radius in Cycles either.
 
-    # Area lights: emissive meshes of the same shape, radiance P / (4 A) on the front face (-Z).
+    # Area lights: transparent emissive meshes of the same shape, unseen by the camera, radiance
+    # P / (4 A) on the front face (-Z).
     for obj in scene.objects:
         if obj.type != "LIGHT" or obj.data.type != "AREA" or not obj.visible_get():
             continue
@@ -961,8 +962,6 @@ def export_scene(filepath, context=None, report=None):
             report.warn("%s: light nodes are ignored (power and colour only)" % owner)
         if getattr(ld, "spread", math.pi) < math.pi - 1e-6:
             report.warn("%s: spread %.1f deg is drawn as 180 deg (Lambertian)" % (owner, math.degrees(ld.spread)))
-        report.warn("%s: brume's emissive mesh is seen by camera rays; Cycles 3.4 leaves area lights out of "
-                    "them (keep the light out of the frame for the same picture)" % owner)
         outline = area_light_outline(ld.shape, ld.size, ld.size_y)
         mw = obj.matrix_world
         world_pts = [mw @ _vec3(x, y, 0.0) for x, y in outline]
@@ -975,9 +974,12 @@ def export_scene(filepath, context=None, report=None):
         L = area_radiance(ld.energy, area)
         radiance = [L * c for c in ld.color]
         factor, strength = emissive_factor_and_strength(radiance)
+        # As Cycles 3.4 renders its lights: rays cross them (no shadow, nothing hidden behind),
+        # and camera rays do not see an area light (measured: docs/blender.md).
         gm = {"name": "brume area light " + ld.name, "emissiveFactor": factor,
               "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0,
-                                       "roughnessFactor": 1.0}}
+                                       "roughnessFactor": 1.0},
+              "extras": {"transparent": True, "cameraVisible": False}}
         if strength != 1.0:
             gm["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
             use_extension_later.add("KHR_materials_emissive_strength")

@@ -535,7 +535,7 @@ BdptOptions strategyOptions(BdptOptions o, const AllocationPlanner* planner, con
 // speed and the load balance.
 void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, const Film& film, const RenderStats& stats,
                   uint64_t nonFinite, const AllocationPlanner* planner, const DirectLightTracing* direct,
-                  const PathGuide* guide, const DistributedResult& shared) {
+                  const PathGuide* guide, const DistributedResult& shared, const ConnectionShares* shares) {
     double seconds = stats.seconds > 0 ? stats.seconds : 1e-9;
     std::printf("%s: %dx%d, %d spp, %.3f s, %.0f samples/s, %.0f rays/s, %llu non-finite, peak %.0f MiB\n",
                 a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
@@ -552,6 +552,7 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
     if (a.stats && guide) std::printf("%s", guide->report().text().c_str());
+    if (a.stats && shares) std::printf("%s", shares->report().c_str());
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
                     "camera side %.4g, light tracing %.4g)\n",
@@ -714,9 +715,12 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // So do the path tracer and bdpt their guide's training passes (path_guide.h), bdpt's
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
+        // And the path tracer the passes that learn its connection shares (connection_shares.h).
+        const bool learnsShares = a.integrator == "pt" && static_cast<const PathTracer&>(integrator).connectionShares();
         plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1)
                         : learns                    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
-                        : a.guiding                 ? std::max(donePasses, guidePasses)
+                        : a.guiding                 ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
+                        : learnsShares              ? std::max(donePasses, ConnectionShares::kLearningPasses)
                                                     : donePasses;
         options.progress = false;
         auto interrupted = [&] {
@@ -770,7 +774,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     if (!a.strategyDir.empty() && !gInterrupted.load())
         writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 
-    printSummary(a, group, res, film, stats, nonFinite, planner, direct, guide, shared);
+    const ConnectionShares* shares = a.integrator == "pt" ? static_cast<const PathTracer&>(integrator).connectionShares() : nullptr;
+    printSummary(a, group, res, film, stats, nonFinite, planner, direct, guide, shared, shares);
     std::fflush(stdout);
     if (gInterrupted.load()) {
         std::string done = std::to_string(film.passes()) + (a.seconds > 0 ? "" : " of " + std::to_string(a.spp));

@@ -33,7 +33,7 @@ struct Subpaths {
 BdptIntegrator::BdptIntegrator(BdptOptions options)
     : options_(options),
       pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding, options.guideShare, -1,
-                                    options.volumeLights}) {
+                                    options.volumeLights, false, ConnectionShares::Shares{}}) {
     if (options_.guiding && options_.efficiencyAware)
         throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths

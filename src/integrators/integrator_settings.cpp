@@ -18,6 +18,7 @@ PathTracerOptions pathTracerOptions(const IntegratorSettings& s) {
     o.guiding = s.guiding;
     o.guidedDistanceDepth = s.guidedDistanceDepth;
     o.volumeLights = s.volumeLights;
+    o.learnShares = s.learnShares;
     return o;
 }
 

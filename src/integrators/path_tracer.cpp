@@ -1,5 +1,7 @@
 #include "brume/integrators/path_tracer.h"
 
+#include "brume/integrators/state_bytes.h"
+
 #include <algorithm>
 #include <optional>
 
@@ -12,6 +14,7 @@
 #include "brume/integrators/mis.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/solid_angle_segment.h"
+#include "brume/integrators/state_bytes.h"
 #include "brume/integrators/visibility.h"
 #include "brume/integrators/volume_light_sampling.h"
 #include "brume/sampling/free_flight.h"
@@ -127,7 +130,7 @@ struct StrategyDensities {
 };
 
 StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const MediumPath& path, ConnectMode mode,
-                               SolidAngleTables& tables) {
+                               SolidAngleTables& tables, ConnectionShares::Shares q) {
     const Light& light = *path.light;
     StrategyDensities p;
     if (usesDensity(mode, light)) p.a = double(o.pFreeFlight) * path.pick * path.pL;
@@ -152,8 +155,26 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
             p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
     }
+    // A and C made with probabilities qA and qC (connection_shares.h): densities q·p.
+    p.a *= double(q.vertex);
+    p.c *= double(q.segment);
     return p;
 }
+
+// What a light connection in a medium leaves for learning its shares (connection_shares.h):
+// null outside the learning passes.
+struct ShareNotes {
+    ConnectionShares::Shares q;
+    std::vector<ConnectionShares::Record>* records = nullptr;
+    Spectrum beta{1.0f};  // the throughput the estimates noted will be multiplied by
+    // Records the estimate `value` = u·w of technique t (u: unweighted).
+    void note(ConnectionShares::Technique t, const Spectrum& value, float w, const StrategyDensities& p) const {
+        if (!records || !(w > 0)) return;
+        const Spectrum v = value * beta;
+        records->push_back(ConnectionShares::Record{t, double(v.x + v.y + v.z) / 3.0 / double(w), p.a, p.b, p.c, p.d});
+    }
+    ShareNotes scaled(const Spectrum& b) const { return ShareNotes{q, records, b}; }
+};
 
 // The power heuristic for the strategy with density `self` among all of p, as
 // 1/(1 + Σ_others (p_o/p_self)²): an infinite density of its own weighs 1 (and its estimate,
@@ -196,7 +217,8 @@ float distanceDensity(const Medium& m, const MediumTransit& tr, Spectrum channel
 
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
-                      const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats) {
+                      const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats,
+                      const ShareNotes& shares) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, 0, &pick);
@@ -208,17 +230,22 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     Spectrum f = v.eval(ls.wi, &scatterPdf, !ls.isDelta);
     if (isBlack(f)) return Spectrum(0.0f);
     float w;
+    StrategyDensities p;
+    float q = 1;  // A's share at a medium vertex (connection_shares.h)
     if (v.origin) {
-        const StrategyDensities p = densitiesOf(
-            scene, *v.origin, MediumPath{&light, pick, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf}, mode, tables);
+        p = densitiesOf(scene, *v.origin, MediumPath{&light, pick, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf},
+                        mode, tables, shares.q);
         w = powerWeight(p.a, p);
+        q = shares.q.vertex;
     } else {
         w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
     }
     if (w == 0) return Spectrum(0.0f);
     WalkSegment seg = leaving(v.p, v.bsdf ? v.ng : Vec3(0.0f), ls.wi, ls.dist, !ls.isDelta, lightTarget(scene, landedLight(li, ls)));
     Spectrum T = transmittanceAlong(scene, seg, media, stats);
-    return f * ls.Le * T * (w / (pick * ls.pdf));
+    const Spectrum value = f * ls.Le * T * (w / (q * pick * ls.pdf));
+    if (v.origin) shares.note(ConnectionShares::Technique::Vertex, value, w, p);
+    return value;
 }
 
 // Next-event estimation towards emissive media (volume_light_sampling.h) from vertex `depth`
@@ -251,7 +278,7 @@ Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumT
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
                            SolidAngleTables& tables, bool passing, const GuidingField* field, const GuidedDistance* gd,
-                           PathStats& stats) {
+                           PathStats& stats, const ShareNotes& shares) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -285,18 +312,21 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
-    StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
+    StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q);
     if (mode != ConnectMode::Mis || passing) p.a = 0;  // equiangular, product, passing: C replaces A
     float w = powerWeight(p.c, p);
     if (w == 0) return Spectrum(0.0f);
-    return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
+    const Spectrum value = inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
+    shares.note(ConnectionShares::Technique::Segment, value, w, p);
+    return value;
 }
 
 // Strategy D: t in proportion to the solid angle of an emissive triangle, then a light point
 // from x(t) as in A (uniform in that solid angle).
 Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media, ConnectMode mode,
                           Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
-                          SolidAngleTables& tables, const GuidingField* field, const GuidedDistance* gd, PathStats& stats) {
+                          SolidAngleTables& tables, const GuidingField* field, const GuidedDistance* gd, PathStats& stats,
+                          const ShareNotes& shares) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -317,10 +347,12 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
     MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.d = double(pick) * pOmega * ls.pdf;
-    const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables);
+    const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q);
     const float w = powerWeight(p.d, p);
     if (w == 0) return Spectrum(0.0f);
-    return inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
+    const Spectrum value = inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.d), media, stats);
+    shares.note(ConnectionShares::Technique::SolidAngle, value, w, p);
+    return value;
 }
 
 // A recording walk's training records (path_guide.h), with the throughput after each
@@ -408,26 +440,38 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const bool passLast = limited && nee && mode != ConnectMode::Density && !hittable &&
                           !scene.hasDirectionalLights() && !scene.hasInvisibleBoundaries();
 
+    // How often the light connections in media are made (connection_shares.h), and their
+    // records while the shares are learnt.
+    thread_local std::vector<ConnectionShares::Record> shareRecords;
+    shareRecords.clear();
+    const bool learningShares = shares_ && shares_->learning() && mode == ConnectMode::Mis;
+    const ShareNotes notes{shares_ ? shares_->shares() : options_.shares, learningShares ? &shareRecords : nullptr};
+    uint32_t mediumVertexCalls = 0;
     // Emission of the emitter at `hit`, reached along `ray` from the last vertex (strategy B),
     // weighted against the light connections that could have made the same path.
-    auto emitterHit = [&](const SurfaceHit& hit) {
-        const Spectrum Le = scene.emission(hit, -ray.d);
-        if (isBlack(Le) || !nee || specularBounce) return Le;
+    auto emitterWeight = [&](const SurfaceHit& hit, const Spectrum& Le) {
+        if (!nee || specularBounce) return 1.0f;
         const int li = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
         const Light& light = scene.lights()[li];
         const float pick = scene.lightDistribution().pmf(li);
         const float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
-        if (!prevInMedium) return Le * powerHeuristic(prevPdf, pick * pL);
-        const StrategyDensities p =
-            densitiesOf(scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf}, mode, prevTables);
-        return Le * powerWeight(p.b, p);
+        if (!prevInMedium) return powerHeuristic(prevPdf, pick * pL);
+        const StrategyDensities p = densitiesOf(scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf},
+                                                mode, prevTables, notes.q);
+        const float w = powerWeight(p.b, p);
+        notes.note(ConnectionShares::Technique::Emitter, beta * Le * w, w, p);
+        return w;
+    };
+    auto emitterHit = [&](const SurfaceHit& hit) {
+        const Spectrum Le = scene.emission(hit, -ray.d);
+        if (!isBlack(Le)) L += counted(PathTracerTechnique::EmitterHit, beta * Le * emitterWeight(hit, Le));
     };
     // A transparent emitter the ray crosses (Material::transparent; a boundary piece's end):
     // its emission, as if the ray had ended there, and the walk goes on unchanged. Nothing
     // from one the camera does not see reaches the pinhole straight (depth 0).
     auto crossing = [&](const BoundaryPiece& piece) {
         const Material* m = piece.boundary ? scene.transparentEmitter(piece.hit) : nullptr;
-        if (m && (depth > 0 || m->cameraVisible)) L += counted(PathTracerTechnique::EmitterHit, beta * emitterHit(piece.hit));
+        if (m && (depth > 0 || m->cameraVisible)) emitterHit(piece.hit);
     };
 
     for (int guard = 0; guard < 100000; ++guard) {
@@ -473,17 +517,21 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                     ? GuidedDistance::on(field, seg.o, seg.d, seg.tEnd, m->sigmaT().x, guide_->settings().fixedShare)
                     : GuidedDistance{};
             const GuidedDistance* gd = guidedDistance.share() > 0 ? &guidedDistance : nullptr;
-            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth) {
+            // C, made with probability qC (connection_shares.h; always outside mis mode).
+            const bool makeC = mode != ConnectMode::Mis || notes.q.segment >= 1 ||
+                               sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment;
+            if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth && makeC) {
                 const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
                 L += counted(PathTracerTechnique::OnSegment,
                              beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
-                                                      tables, passing, field, gd, stats));
+                                                      tables, passing, field, gd, stats, notes.scaled(beta)));
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
                 L += counted(PathTracerTechnique::BySolidAngle,
                              beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler,
-                                                     dim::solidAngleSegment(depth), repeat, tables, field, gd, stats));
+                                                     dim::solidAngleSegment(depth), repeat, tables, field, gd, stats,
+                                                     notes.scaled(beta)));
             }
 
             if (passing) {  // (above) weight T
@@ -529,10 +577,13 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             betaBefore = beta;
             adjoint = guided.cell ? guided.cell->mediumAdjoint : -1.0f;
             Spectrum direct(0.0f);  // per unit of throughput (a training record keeps it)
-            if (nee) {
+            // A, made with probability qA in mis mode (connection_shares.h).
+            const uint32_t aDims = dim::connection(1, depth + 1);
+            if (nee && (mode != ConnectMode::Mis || notes.q.vertex >= 1 || sampler.get1D(aDims + dim::kConnect) < notes.q.vertex)) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
-                direct = sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats);
+                direct = sampleDirect(scene, v, media, mode, sampler, aDims, tables, stats, notes.scaled(beta));
                 L += counted(PathTracerTechnique::AtVertex, beta * direct);
+                ++mediumVertexCalls;
             }
             if (volumeNee) L += counted(PathTracerTechnique::AtVertex, beta * volumeDirect(scene, v, Vec3(0.0f), media, sampler, depth, stats));
             if (scene.hasTriangleLights() && mode == ConnectMode::Mis) prevTables = tables;
@@ -561,7 +612,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (!hit.valid() || piece.boundary || isBlack(beta)) break;
 
             // Emission reached by the camera ray or by BSDF/phase sampling (strategy B).
-            L += counted(PathTracerTechnique::EmitterHit, beta * emitterHit(hit));
+            emitterHit(hit);
             if (hit.sphereLight >= 0) break;  // sphere lights are opaque emitters
             if (++depth > maxDepth) break;
 
@@ -585,7 +636,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (nee && !bsdf.isSpecular()) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 L += counted(PathTracerTechnique::AtVertex,
-                             beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats));
+                             beta * sampleDirect(scene, v, media, mode, sampler, dim::connection(1, depth + 1), tables, stats,
+                                                 ShareNotes{notes.q}));
             }
             if (volumeNee && !bsdf.isSpecular())
                 L += counted(PathTracerTechnique::AtVertex, beta * volumeDirect(scene, v, hit.ng, media, sampler, depth, stats));
@@ -668,10 +720,35 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         }
         if (kept > 0) guide_->add(t.records, kept);
     }
+    if (learningShares)
+        shares_->addSample(width, height, pixel, double(L.x + L.y + L.z) / 3.0, shareRecords.data(), int(shareRecords.size()),
+                           mediumVertexCalls);
     ++stats.counts.pt.samples;
     techniques.addTo(stats.techniques);
     stats.counts.pt.walkRays += (stats.rays - rays0) - (stats.counts.pt.connectionRays() - connections0);
     return L;
+}
+
+std::string PathTracer::saveState() const {
+    const std::string guide = guide_ ? guide_->saveState() : std::string();
+    if (!shares_) return guide;
+    std::string out;
+    putBytes(out, uint64_t(guide.size()));
+    return out + guide + shares_->saveState();
+}
+
+void PathTracer::loadState(const std::string& state) {
+    if (!shares_) {
+        if (guide_) guide_->loadState(state);
+        else if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
+        return;
+    }
+    StateReader reader{state, 0};
+    const uint64_t n = reader.get<uint64_t>();
+    if (n > state.size() - reader.at) throw std::runtime_error("path tracer state is malformed");
+    if (guide_) guide_->loadState(state.substr(reader.at, size_t(n)));
+    else if (n != 0) throw std::runtime_error("path tracer state is malformed");
+    shares_->loadState(state.substr(reader.at + size_t(n)));
 }
 
 }  // namespace brume

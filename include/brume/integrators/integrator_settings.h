@@ -28,6 +28,9 @@ struct IntegratorSettings {
     // The path tracer's next-event estimation towards emissive media (`--volume-lights`; also
     // the path tracer inside bdpt and auto).
     bool volumeLights = true;
+    // The path tracer with --connect mis learns how often to make its light connections in
+    // media (connection_shares.h); false: always both (tests that need fixed weights).
+    bool learnShares = true;
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two
     // variants kept for measurement (BdptOptions).

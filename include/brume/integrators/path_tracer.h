@@ -6,6 +6,7 @@
 #pragma once
 #include <memory>
 
+#include "brume/integrators/connection_shares.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/path_guide.h"
 
@@ -45,24 +46,35 @@ struct PathTracerOptions {
     // Next-event estimation towards emissive media with emission grids (volume_light_sampling.h,
     // `--volume-lights`); off: their emission is gathered along the rays alone.
     bool volumeLights = true;
+    // --connect mis: how often A and C are made (connection_shares.h): learned from the first
+    // passes of a render (learnShares, the command's default), or these fixed shares (tests;
+    // and any sample taken outside a render).
+    bool learnShares = false;
+    ConnectionShares::Shares shares;
 };
 
 class PathTracer : public Integrator {
 public:
     explicit PathTracer(PathTracerOptions options)
-        : options_(options), guide_(options.guiding ? std::make_unique<PathGuide>(guideSettings(options)) : nullptr) {}
+        : options_(options),
+          guide_(options.guiding ? std::make_unique<PathGuide>(guideSettings(options)) : nullptr),
+          shares_(options.learnShares && options.connect == ConnectMode::Mis && options.nextEventEstimation
+                      ? std::make_unique<ConnectionShares>()
+                      : nullptr) {}
     Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                     PathStats& stats) const override;
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
+        if (shares_) shares_->endPass(summary);
     }
-    bool learning(int) const override { return guide_ && guide_->learning(); }
+    bool learning(int) const override { return (guide_ && guide_->learning()) || (shares_ && shares_->learning()); }
     // The guide's training passes, once the guided ones outnumber them (path_guide.h).
     LeftOutPasses leftOut() const override { return guide_ ? guide_->leftOut() : LeftOutPasses{}; }
-    std::string saveState() const override { return guide_ ? guide_->saveState() : std::string(); }
-    void loadState(const std::string& state) override {
-        if (guide_) guide_->loadState(state);
-    }
+    // The guide's state, then the shares' (connection_shares.h) after its length.
+    std::string saveState() const override;
+    void loadState(const std::string& state) override;
+    // The learned connection shares (null unless learned), for --stats.
+    const ConnectionShares* connectionShares() const { return shares_.get(); }
     // The guide's cache (null without guiding), for --stats.
     const PathGuide* guide() const { return guide_.get(); }
 
@@ -75,6 +87,7 @@ private:
     }
     PathTracerOptions options_;
     std::unique_ptr<PathGuide> guide_;
+    std::unique_ptr<ConnectionShares> shares_;
 };
 
 }  // namespace brume

@@ -1,0 +1,86 @@
+// How often `pt --connect mis` makes each of its light connections in media: the connection
+// at a free-flight vertex (A, path_tracer.cpp) with probability qA, the equi-angular (or
+// product) connection on a segment (C) with probability qC, learned from the render's first
+// passes (docs/mis.md, "How often the path tracer connects").
+//
+// Why. Where one connection is nearly exact (C near a point light in thin fog) the other adds
+// its variance back through the power heuristic and costs its rays; where the connections
+// carry a small part of the variance (a caustic dominates, or the light is mostly occluded)
+// both cost rays for little. Making a connection with probability q is one-sample MIS with
+// sample count q (Veach 1997, 9.2.4): its density enters every weight as q·p and its
+// estimate is f·w/(q·p), so every path keeps weights that sum to one and no q > 0 biases.
+//
+// Learning. The first kLearningPasses passes render with qA = qC = 1 and keep, per pixel and
+// for each candidate (qA', qC'), the second moment its sample would have had: the sample's
+// light-connection records re-weighted (their densities with q'), the rest of the sample as
+// it was, and for a record of a connection made with probability q' the Bernoulli term
+// v²·(1/q' − 1) (its value v/q' with probability q', 0 otherwise, independently of the rest):
+//   M_j = (L_rest + Σ_r v'_r)² + Σ_{r: A or C} v'_r²·(1/q'_r − 1).
+// After them, V_j = Σ_p w_p·(M_j,p / n − m_p²), w_p = 1/(m_p² + 0.01) as bench weighs errors
+// (m_p: the pixel's mean over those passes), and the cost of a sample under j from the parts
+// the passes counted (sample_cost.h: the calls at medium vertices scaled by qA', on segments
+// by qC'); the candidate of least V_j·cost_j renders the rest. Sums per pixel, added in pixel
+// order: the same choice for any thread count, and kept in checkpoints.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "brume/integrators/integrator.h"
+
+namespace brume {
+
+class ConnectionShares {
+public:
+    static constexpr int kLearningPasses = 4;
+    static constexpr int kCandidates = 9;  // qA, qC in {1, 1/2, 1/4}
+    struct Shares {
+        float vertex = 1, segment = 1;  // qA, qC
+    };
+    static Shares candidate(int j) {
+        constexpr float q[3] = {1.0f, 0.5f, 0.25f};
+        return Shares{q[j / 3], q[j % 3]};
+    }
+
+    // A light connection's record in a learning pass (grey values: the mean over channels).
+    enum class Technique : uint8_t { Vertex, Emitter, Segment, SolidAngle };  // A, B, C, D
+    struct Record {
+        Technique technique;
+        double value;         // its unweighted estimate f / p_self, times the throughput
+        double a, b, c, d;    // the strategies' densities, at q = 1
+    };
+
+    // The shares pass `pass` renders with; learning until the choice is made.
+    Shares shares() const { return shares_; }
+    bool learning() const { return !decided_; }
+    // One learning sample at `pixel`: its value L (grey), its records and how many connections
+    // it made at medium vertices (their calls). Thread-safe for distinct pixels.
+    void addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n, uint32_t mediumVertexCalls);
+    void endPass(const PassSummary& summary);
+    // The choice, for --stats: each candidate's estimated relative variance and cost.
+    std::string report() const;
+
+    std::string saveState() const;
+    void loadState(const std::string& state);  // std::runtime_error if malformed
+
+private:
+    void decide(const PassSummary& summary);
+    void ensure(int width, int height);
+
+    Shares shares_;
+    bool decided_ = false;
+    int passes_ = 0;
+    int width_ = 0, height_ = 0;
+    std::mutex sizing_;
+    // Per pixel: the candidates' second moments, the sample values and their medium-vertex
+    // connections (summed over the learning passes).
+    std::vector<double> moments_;  // kCandidates per pixel
+    std::vector<double> sum_;
+    std::vector<uint32_t> vertexCalls_;
+    PathCounts counts_;  // the learning passes' parts
+    double variance_[kCandidates] = {}, cost_[kCandidates] = {};
+};
+
+}  // namespace brume

@@ -1,0 +1,178 @@
+#include "brume/integrators/connection_shares.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "brume/integrators/sample_cost.h"
+#include "brume/integrators/state_bytes.h"
+
+namespace brume {
+
+namespace {
+
+// A record's weight under shares q: the power heuristic over the strategies' densities, A's
+// and C's times their shares (path_tracer.cpp, powerWeight), in double.
+double weightUnder(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
+    const double a = r.a * q.vertex, c = r.c * q.segment;
+    double self = 0;
+    switch (r.technique) {
+        case ConnectionShares::Technique::Vertex: self = a; break;
+        case ConnectionShares::Technique::Emitter: self = r.b; break;
+        case ConnectionShares::Technique::Segment: self = c; break;
+        case ConnectionShares::Technique::SolidAngle: self = r.d; break;
+    }
+    if (!(self > 0)) return 0;
+    double sum = 0;
+    for (double o : {a, r.b, c, r.d}) {
+        const double x = o / self;
+        sum += std::isfinite(x) ? x * x : 1e300;
+    }
+    return sum > 0 ? 1.0 / sum : 0.0;
+}
+
+double shareOf(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
+    switch (r.technique) {
+        case ConnectionShares::Technique::Vertex: return q.vertex;
+        case ConnectionShares::Technique::Segment: return q.segment;
+        default: return 1.0;
+    }
+}
+
+}  // namespace
+
+void ConnectionShares::ensure(int width, int height) {
+    std::lock_guard<std::mutex> lock(sizing_);
+    if (width_ == width && height_ == height && !sum_.empty()) return;
+    width_ = width;
+    height_ = height;
+    const size_t n = size_t(width) * size_t(height);
+    moments_.assign(n * kCandidates, 0.0);
+    sum_.assign(n, 0.0);
+    vertexCalls_.assign(n, 0);
+}
+
+void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n,
+                                 uint32_t mediumVertexCalls) {
+    if (width != width_ || height != height_ || sum_.empty()) ensure(width, height);
+    if (!std::isfinite(L)) return;
+    // The rest of the sample: L without the records' estimates as weighted now (q = 1).
+    double rest = L;
+    for (int i = 0; i < n; ++i) rest -= records[i].value * weightUnder(records[i], Shares{});
+    double* m = &moments_[size_t(pixel) * kCandidates];
+    for (int j = 0; j < kCandidates; ++j) {
+        const Shares q = candidate(j);
+        double s = rest, bernoulli = 0;
+        for (int i = 0; i < n; ++i) {
+            const double v = records[i].value * weightUnder(records[i], q);
+            s += v;
+            const double share = shareOf(records[i], q);
+            if (share < 1) bernoulli += v * v * (1.0 / share - 1.0);
+        }
+        const double moment = s * s + bernoulli;
+        if (std::isfinite(moment)) m[j] += moment;
+    }
+    vertexCalls_[pixel] += mediumVertexCalls;
+}
+
+void ConnectionShares::endPass(const PassSummary& summary) {
+    if (decided_ || !summary.complete || !summary.radiance) return;
+    ensure(summary.width, summary.height);
+    const size_t n = size_t(summary.width) * size_t(summary.height);
+    for (size_t p = 0; p < n; ++p) {
+        const Spectrum& v = summary.radiance[p];
+        sum_[p] += double(v.x + v.y + v.z) / 3.0;
+    }
+    counts_.add(summary.totals.counts);
+    if (++passes_ >= kLearningPasses) decide(summary);
+}
+
+void ConnectionShares::decide(const PassSummary& summary) {
+    const size_t n = size_t(summary.width) * size_t(summary.height);
+    double variance[kCandidates] = {};
+    uint64_t vertexCalls = 0;
+    for (size_t p = 0; p < n; ++p) {
+        const double mean = sum_[p] / passes_;
+        const double w = 1.0 / (mean * mean + 0.01);
+        for (int j = 0; j < kCandidates; ++j) variance[j] += w * (moments_[p * kCandidates + size_t(j)] / passes_ - mean * mean);
+        vertexCalls += vertexCalls_[p];
+    }
+    // Cost of the learning passes' samples, less the connections a candidate would skip.
+    const double base = pathTracerCost(counts_.pt);
+    int best = 0;
+    for (int j = 0; j < kCandidates; ++j) {
+        const Shares q = candidate(j);
+        variance_[j] = variance[j];
+        cost_[j] = base - pt_cost::kVertexCall * (1.0 - q.vertex) * double(vertexCalls) -
+                   pt_cost::kSegmentCall * (1.0 - q.segment) * double(counts_.pt.segmentCalls);
+        if (variance_[j] > 0 && cost_[j] > 0 && variance_[j] * cost_[j] < variance_[best] * cost_[best]) best = j;
+    }
+    shares_ = candidate(best);
+    decided_ = true;
+    moments_ = {};
+    sum_ = {};
+    vertexCalls_ = {};
+}
+
+std::string ConnectionShares::report() const {
+    if (!decided_) return "connection shares: learning\n";
+    char buf[160];
+    std::string out;
+    std::snprintf(buf, sizeof buf, "connection shares: at medium vertices %.2f, on segments %.2f (learned from %d passes)\n",
+                  double(shares_.vertex), double(shares_.segment), passes_);
+    out += buf;
+    out += "  shares (vertex, segment)   variance       cost   efficiency   (relative to 1, 1)\n";
+    for (int j = 0; j < kCandidates; ++j) {
+        const Shares q = candidate(j);
+        const double e = variance_[j] > 0 && cost_[j] > 0 ? (variance_[0] * cost_[0]) / (variance_[j] * cost_[j]) : 0.0;
+        std::snprintf(buf, sizeof buf, "  %4.2f, %4.2f             %9.3g  %9.3g  %11.3g\n", double(q.vertex), double(q.segment),
+                      variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0, cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e);
+        out += buf;
+    }
+    return out;
+}
+
+std::string ConnectionShares::saveState() const {
+    std::string out = "CSH1";
+    auto put = [&](const void* p, size_t bytes) { out.append(static_cast<const char*>(p), bytes); };
+    const uint8_t decided = decided_ ? 1 : 0;
+    put(&decided, 1);
+    put(&shares_, sizeof shares_);
+    put(&passes_, sizeof passes_);
+    put(&width_, sizeof width_);
+    put(&height_, sizeof height_);
+    putVector(out, moments_);
+    putVector(out, sum_);
+    putVector(out, vertexCalls_);
+    std::vector<uint64_t> counts;
+    counts_.forEach([&](const uint64_t& v) { counts.push_back(v); });
+    putVector(out, counts);
+    put(variance_, sizeof variance_);
+    put(cost_, sizeof cost_);
+    return out;
+}
+
+void ConnectionShares::loadState(const std::string& state) {
+    if (state.compare(0, 4, "CSH1") != 0) throw std::runtime_error("connection shares state is malformed");
+    StateReader r{state, 4};
+    decided_ = r.get<uint8_t>() != 0;
+    shares_ = r.get<Shares>();
+    passes_ = r.get<int>();
+    width_ = r.get<int>();
+    height_ = r.get<int>();
+    const size_t pixels = size_t(std::max(width_, 0)) * size_t(std::max(height_, 0));
+    moments_ = r.getVector<double>(pixels * kCandidates);
+    sum_ = r.getVector<double>(pixels);
+    vertexCalls_ = r.getVector<uint32_t>(pixels);
+    const std::vector<uint64_t> counts = r.getVector<uint64_t>(PathCounts::kCount);
+    if (counts.size() != size_t(PathCounts::kCount)) throw std::runtime_error("connection shares state is malformed");
+    size_t i = 0;
+    counts_.forEach([&](uint64_t& v) { v = counts[i++]; });
+    for (double& v : variance_) v = r.get<double>();
+    for (double& v : cost_) v = r.get<double>();
+    if (r.at != state.size()) throw std::runtime_error("connection shares state has trailing bytes");
+    if (!decided_ && (moments_.size() != pixels * kCandidates || sum_.size() != pixels || vertexCalls_.size() != pixels))
+        throw std::runtime_error("connection shares state is malformed");
+}
+
+}  // namespace brume

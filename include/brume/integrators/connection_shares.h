@@ -1,7 +1,7 @@
 // How often `pt --connect mis` makes each of its light connections in media: the connection
 // at a free-flight vertex (A, path_tracer.cpp) with probability qA, the equi-angular (or
 // product) connection on a segment (C) with probability qC, learned from the render's first
-// passes (docs/mis.md, "How often the path tracer connects").
+// passes (docs/path-tracer.md, "How often A and C are made").
 //
 // Why. Where one connection is nearly exact (C near a point light in thin fog) the other adds
 // its variance back through the power heuristic and costs its rays; where the connections

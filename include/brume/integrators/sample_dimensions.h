@@ -11,9 +11,10 @@
 //                                                  kKeep (whether a dark training record is kept)
 //   connection (s, t) of the BDPT                connection(s, t) + kPick, kLightPoint (2D), kEquiAngular,
 //                                                  kConnect (whether a general connection is made)
-//   pt at camera vertex k: next-event estimate   connection(1, k + 1) (same fields)
+//   pt at camera vertex k: next-event estimate   connection(1, k + 1) (same fields; kConnect:
+//                                                  whether it is made, connection_shares.h)
 //   pt on the segment leaving camera vertex k:   equiAngularSegment(k) + kPick, kAnchor (2D),
-//     equi-angular strategy                        kEquiAngular, kLightPoint (2D)
+//     equi-angular strategy                        kEquiAngular, kLightPoint (2D), kConnect
 //   pt on the segment leaving camera vertex k:   solidAngleSegment(k) + kPick, kEquiAngular
 //     solid-angle distance strategy                (the distance), kLightPoint (2D)
 //   the ray leaving camera vertex k, both        mediumEmission(k) + kEmission (per piece:

@@ -198,7 +198,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--connect", "MODE",
               "light connections on medium segments: density (from the free-flight point), equiangular, "
               "product (equi-angular x phase in anisotropic media), or mis (density and product; the "
-              "default); for bdpt: equi-angular variants of connection vertices",
+              "default; pt makes each as often as its first 4 passes show it pays); for bdpt: "
+              "equi-angular variants of connection vertices",
               [&](const std::string& v) {
                   if (v == "density") a.connect = ConnectMode::Density;
                   else if (v == "equiangular") a.connect = ConnectMode::EquiAngular;

@@ -43,18 +43,22 @@ double shareOf(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
 
 void ConnectionShares::ensure(int width, int height) {
     std::lock_guard<std::mutex> lock(sizing_);
-    if (width_ == width && height_ == height && !sum_.empty()) return;
+    if (width_ == width && height_ == height && !sum_.empty()) {
+        sized_.store(true, std::memory_order_release);
+        return;
+    }
     width_ = width;
     height_ = height;
     const size_t n = size_t(width) * size_t(height);
     moments_.assign(n * kCandidates, 0.0);
     sum_.assign(n, 0.0);
     vertexCalls_.assign(n, 0);
+    sized_.store(true, std::memory_order_release);
 }
 
 void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n,
                                  uint32_t mediumVertexCalls) {
-    if (width != width_ || height != height_ || sum_.empty()) ensure(width, height);
+    if (!sized_.load(std::memory_order_acquire)) ensure(width, height);  // (the first samples of a render)
     if (!std::isfinite(L)) return;
     // The rest of the sample: L without the records' estimates as weighted now (q = 1).
     double rest = L;
@@ -112,6 +116,7 @@ void ConnectionShares::decide(const PassSummary& summary) {
     moments_ = {};
     sum_ = {};
     vertexCalls_ = {};
+    sized_.store(false, std::memory_order_release);
 }
 
 std::string ConnectionShares::report() const {
@@ -173,6 +178,7 @@ void ConnectionShares::loadState(const std::string& state) {
     if (r.at != state.size()) throw std::runtime_error("connection shares state has trailing bytes");
     if (!decided_ && (moments_.size() != pixels * kCandidates || sum_.size() != pixels || vertexCalls_.size() != pixels))
         throw std::runtime_error("connection shares state is malformed");
+    sized_.store(!decided_ && pixels > 0, std::memory_order_release);
 }
 
 }  // namespace brume

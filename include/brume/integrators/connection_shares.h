@@ -22,6 +22,7 @@
 // by qC'); the candidate of least V_j·cost_j renders the rest. Sums per pixel, added in pixel
 // order: the same choice for any thread count, and kept in checkpoints.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -74,6 +75,7 @@ private:
     int passes_ = 0;
     int width_ = 0, height_ = 0;
     std::mutex sizing_;
+    std::atomic<bool> sized_{false};  // the per-pixel sums below are sized for the render
     // Per pixel: the candidates' second moments, the sample values and their medium-vertex
     // connections (summed over the learning passes).
     std::vector<double> moments_;  // kCandidates per pixel

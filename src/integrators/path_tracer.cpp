@@ -1,7 +1,5 @@
 #include "brume/integrators/path_tracer.h"
 
-#include "brume/integrators/state_bytes.h"
-
 #include <algorithm>
 #include <optional>
 

@@ -110,14 +110,20 @@ int walk(const Scene& scene, const WalkStart& start, TransportMode mode, int max
         emission.againstVolumeLights = count - 1 >= 1 && count - 1 <= start.volumeLightsUpTo && !prev.delta;
         emission.dirPdf = pdfDir;
         const bool gathers = start.side == dim::Side::Camera && scene.hasEmissiveMedia();
-        thread_local std::vector<FlightCrossing> crossed;
-        crossed.clear();
+        // Transparent emitters the flight crosses (emitter_crossing.h), where the walk wants them.
+        thread_local std::vector<FlightCrossing> crossedHere;
+        std::vector<FlightCrossing>* crossed = nullptr;
+        if (start.crossings) {
+            crossed = &crossedHere;
+            crossed->clear();
+        }
         Flight f = sampleFlight(scene, ray, media, prev.isMedium(), channels, throughputChannels(beta), sampler, dims, stats,
                                 count >= start.passFrom || (count == start.passFirstAt && !prev.delta),
-                                gathers ? &emission : nullptr, start.crossings ? &crossed : nullptr);
+                                gathers ? &emission : nullptr, crossed);
         v.edgeEnd = f.firstEnd;
         v.edgeEmission = beta * emission.gathered;
-        for (const FlightCrossing& x : crossed) {  // (emitter_crossing.h) as the vertex the ray would make there
+        for (size_t i = 0; crossed && i < crossed->size(); ++i) {  // as the vertex the ray would make there
+            const FlightCrossing& x = (*crossed)[i];
             start.crossings->push_back(CrossingVertex{count, v});
             PathVertex& y = start.crossings->back().vertex;
             y.ghost = false;

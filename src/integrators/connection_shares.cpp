@@ -11,24 +11,17 @@ namespace brume {
 
 namespace {
 
-// A record's weight under shares q: the power heuristic over the strategies' densities, A's
-// and C's times their shares (path_tracer.cpp, powerWeight), in double.
+// A record's weight under shares q: the power heuristic the path tracer weighs with, over the
+// strategies' densities with A's and C's times their shares.
 double weightUnder(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
-    const double a = r.a * q.vertex, c = r.c * q.segment;
-    double self = 0;
+    const StrategyDensities p{r.p.a * q.vertex, r.p.b, r.p.c * q.segment, r.p.d};
     switch (r.technique) {
-        case ConnectionShares::Technique::Vertex: self = a; break;
-        case ConnectionShares::Technique::Emitter: self = r.b; break;
-        case ConnectionShares::Technique::Segment: self = c; break;
-        case ConnectionShares::Technique::SolidAngle: self = r.d; break;
+        case ConnectionShares::Technique::Vertex: return powerWeight(p.a, p);
+        case ConnectionShares::Technique::Emitter: return powerWeight(p.b, p);
+        case ConnectionShares::Technique::Segment: return powerWeight(p.c, p);
+        case ConnectionShares::Technique::SolidAngle: return powerWeight(p.d, p);
     }
-    if (!(self > 0)) return 0;
-    double sum = 0;
-    for (double o : {a, r.b, c, r.d}) {
-        const double x = o / self;
-        sum += std::isfinite(x) ? x * x : 1e300;
-    }
-    return sum > 0 ? 1.0 / sum : 0.0;
+    return 0;
 }
 
 double shareOf(const ConnectionShares::Record& r, ConnectionShares::Shares q) {

@@ -13,6 +13,7 @@
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/solid_angle_segment.h"
 #include "brume/integrators/state_bytes.h"
+#include "brume/integrators/strategy_densities.h"
 #include "brume/integrators/visibility.h"
 #include "brume/integrators/volume_light_sampling.h"
 #include "brume/sampling/free_flight.h"
@@ -122,11 +123,6 @@ struct MediumPath {
     double c = -1, d = -1;
 };
 
-// In double: at grazing angles a density can pass float's range, and its square long before.
-struct StrategyDensities {
-    double a = 0, b = 0, c = 0, d = 0;
-};
-
 StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const MediumPath& path, ConnectMode mode,
                                SolidAngleTables& tables, ConnectionShares::Shares q) {
     const Light& light = *path.light;
@@ -169,32 +165,11 @@ struct ShareNotes {
     void note(ConnectionShares::Technique t, const Spectrum& value, float w, const StrategyDensities& p) const {
         if (!records || !(w > 0)) return;
         const Spectrum v = value * beta;
-        records->push_back(ConnectionShares::Record{t, double(v.x + v.y + v.z) / 3.0 / double(w), p.a, p.b, p.c, p.d});
+        records->push_back(ConnectionShares::Record{t, double(v.x + v.y + v.z) / 3.0 / double(w), p});
     }
     ShareNotes scaled(const Spectrum& b) const { return ShareNotes{q, records, b}; }
 };
 
-// The power heuristic for the strategy with density `self` among all of p, as
-// 1/(1 + Σ_others (p_o/p_self)²): an infinite density of its own weighs 1 (and its estimate,
-// divided by it, 0) instead of inf/inf.
-float powerWeight(double self, const StrategyDensities& p) {
-    if (!(self > 0)) return 0.0f;
-    if (std::isfinite(self)) {
-        const double sum = p.a * p.a + p.b * p.b + p.c * p.c + p.d * p.d;
-        if (std::isfinite(sum)) return float(self * self / sum);
-    }
-    double sum = 0;
-    bool seenSelf = false;
-    for (double o : {p.a, p.b, p.c, p.d}) {
-        if (!seenSelf && o == self) {
-            seenSelf = true;
-            continue;
-        }
-        const double r = o / self;
-        sum += std::isnan(r) ? 1.0 : r * r;
-    }
-    return float(1.0 / (1.0 + sum));
-}
 
 // The density with which the walk, had it scattered at x travelling along d, would have
 // continued along w: the guided mixture where the field guides (guided_phase.h), else the

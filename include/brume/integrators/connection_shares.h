@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "brume/integrators/integrator.h"
+#include "brume/integrators/strategy_densities.h"
 
 namespace brume {
 
@@ -50,7 +51,7 @@ public:
     struct Record {
         Technique technique;
         double value;         // its unweighted estimate f / p_self, times the throughput
-        double a, b, c, d;    // the strategies' densities, at q = 1
+        StrategyDensities p;  // the strategies' densities, at q = 1
     };
 
     // The shares pass `pass` renders with; learning until the choice is made.

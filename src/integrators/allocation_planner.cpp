@@ -387,13 +387,16 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP4", then i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
+// State: "BAP5", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
+// scene before each pass, but loadState re-derives the choice before any pass, and without it
+// a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
 // passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP4";
+    std::string out = "BAP5";
+    putBytes(out, uint8_t(probe_ ? 1 : 0));
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
     putBytes(out, int32_t(duelists_[0]));
@@ -415,8 +418,10 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP4") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP5") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
+    const uint8_t probe = r.get<uint8_t>();
+    if (probe > 1) throw std::runtime_error("allocation state is malformed");
     const int pilotChoice = r.get<int32_t>(), chosen = r.get<int32_t>();
     const int duelist0 = r.get<int32_t>(), duelist1 = r.get<int32_t>();
     const int collected = r.get<int32_t>(), passes = r.get<int32_t>();
@@ -444,6 +449,7 @@ void AllocationPlanner::loadState(const std::string& state) {
     if (leftOutPasses < 0 || leftOutPasses > kLastDecisionPass + 1) throw std::runtime_error("allocation state is malformed");
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
     pilotChoice_ = chosen_ = -1;
+    probe_ = probe != 0;
     collected_ = collected;
     passes_ = passes;
     width_ = width;

@@ -215,6 +215,28 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     }
 }
 
+// Beside an area light in fog auto probes the path tracer (its distances by the light's solid
+// angle, allocation_planner.h), chooses it after the duel, and the path tracer then learns its
+// connection shares in passes 20–23 (connection_shares.h). Stopped in the pilot, inside and
+// after that learning, it resumes to the same bytes. (Before the planner's state kept whether
+// it probes, such a checkpoint resumed to another choice and was refused as malformed.)
+TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the path tracer", "[cli][checkpoint][auto]") {
+    TempDir dir;
+    const Args common = {data("area_quad.gltf"), "--res", "40x30", "--spp", "40"};
+    const std::string ckpt = dir / "c.ckpt";
+    Result r = run(common + Args{"-o", dir / "straight.pfm", "--stats"});
+    REQUIRE(r.code == 0);
+    REQUIRE(r.out.find("allocation: path tracer") != std::string::npos);
+    CHECK(r.out.find("connection shares: at medium vertices") != std::string::npos);
+    for (const char* stop : {"3", "21", "24"}) {
+        INFO("stopped after " << stop << " passes");
+        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
+    }
+}
+
 // bdpt learns light tracing's share of one-scattering paths in its first four passes
 // (direct_light_tracing.h), which the image leaves out once the others are 4× as many:
 // stopped inside the learning, after it, and after a pass with the learned factor, it

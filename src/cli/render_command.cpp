@@ -522,6 +522,13 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
 // The bidirectional tracer whose strategies the strategy images show: with auto, the
 // allocation it chose; with light tracing's learned share (bdpt; auto in single scattering,
 // when its duel kept the allocation that carries it), that share.
+// The connection shares the render learns (connection_shares.h): the path tracer's, or the
+// path tracer's inside bdpt and auto; null if none.
+const ConnectionShares* connectionSharesOf(const RenderArgs& a, const Integrator& integrator) {
+    if (a.integrator == "pt") return static_cast<const PathTracer&>(integrator).connectionShares();
+    return static_cast<const BdptIntegrator&>(integrator).connectionShares();
+}
+
 BdptOptions strategyOptions(BdptOptions o, const AllocationPlanner* planner, const DirectLightTracing* direct) {
     if (planner) {
         o.allocation = planner->chosen();
@@ -553,7 +560,8 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
     if (a.stats && guide) std::printf("%s", guide->report().text().c_str());
-    if (a.stats && shares) std::printf("%s", shares->report().c_str());
+    // (Inside auto and bdpt the shares learn only where the path tracer renders.)
+    if (a.stats && shares && (a.integrator == "pt" || !shares->learning())) std::printf("%s", shares->report().c_str());
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
                     "camera side %.4g, light tracing %.4g)\n",
@@ -717,8 +725,11 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
         // And the path tracer the passes that learn its connection shares (connection_shares.h).
-        const bool learnsShares = a.integrator == "pt" && static_cast<const PathTracer&>(integrator).connectionShares();
-        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1)
+        // (auto's and bdpt's path tracer learn theirs once it renders for good: after auto's
+        // choice, from pass 4 or 20, or from pass 0 with `--allocation "path tracer"`.)
+        const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
+        const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
+        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1 + sharePasses)
                         : learns                    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
                         : a.guiding                 ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
                         : learnsShares              ? std::max(donePasses, ConnectionShares::kLearningPasses)
@@ -775,7 +786,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     if (!a.strategyDir.empty() && !gInterrupted.load())
         writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 
-    const ConnectionShares* shares = a.integrator == "pt" ? static_cast<const PathTracer&>(integrator).connectionShares() : nullptr;
+    const ConnectionShares* shares = connectionSharesOf(a, integrator);
     printSummary(a, group, res, film, stats, nonFinite, planner, direct, guide, shared, shares);
     std::fflush(stdout);
     if (gInterrupted.load()) {

@@ -33,7 +33,9 @@ struct Subpaths {
 BdptIntegrator::BdptIntegrator(BdptOptions options)
     : options_(options),
       pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding, options.guideShare, -1,
-                                    options.volumeLights, false, ConnectionShares::Shares{}}) {
+                                    options.volumeLights,
+                                    options.learnShares && !options.guiding && (options.efficiencyAware || options.allocation.pathTracer),
+                                    ConnectionShares::Shares{}}) {
     if (options_.guiding && options_.efficiencyAware)
         throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
@@ -56,7 +58,15 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
 
 BdptIntegrator::~BdptIntegrator() = default;
 
+bool BdptIntegrator::sharesPassAt(int pass) const {
+    if (!pathTracer_.sharesLearning()) return false;
+    if (!planner_) return options_.allocation.pathTracer;
+    return planner_->decided() && planner_->allocationFor(pass).pathTracer;
+}
+
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
+    sharesPass_ = sharesPassAt(pass);
+    pathTracer_.pauseShares(!sharesPass_);
     guideTraining_ = options_.guiding && pathTracer_.guide()->training();
     learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass);
     usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
@@ -118,23 +128,28 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
 }
 
-// State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; then
-// the planner's (auto), then "BDL1" and light tracing's share if it learns one (bdpt, and
-// auto in single scattering); with both, the planner's is preceded by its length (u64).
+// State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; where
+// the path tracer inside learns connection shares, "BDS1", the length and the path tracer's
+// state; then the planner's (auto), then "BDL1" and light tracing's share if it learns one
+// (bdpt, and auto in single scattering); with both, the planner's is preceded by its length
+// (u64).
 std::string BdptIntegrator::saveState() const {
-    if (!options_.guiding) return saveOwnState();
-    std::string out = "BDG1";
-    const std::string guide = pathTracer_.saveState();
-    putBytes(out, uint64_t(guide.size()));
-    return out + guide + saveOwnState();
+    const bool shares = pathTracer_.connectionShares() != nullptr;
+    if (!options_.guiding && !shares) return saveOwnState();
+    std::string out = options_.guiding ? "BDG1" : "BDS1";
+    const std::string inside = pathTracer_.saveState();
+    putBytes(out, uint64_t(inside.size()));
+    return out + inside + saveOwnState();
 }
 
 void BdptIntegrator::loadState(const std::string& state) {
-    if (!options_.guiding) return loadOwnState(state);
-    if (state.compare(0, 4, "BDG1") != 0) throw std::runtime_error("guiding state is malformed");
+    const bool shares = pathTracer_.connectionShares() != nullptr;
+    if (!options_.guiding && !shares) return loadOwnState(state);
+    const char* what = options_.guiding ? "guiding state is malformed" : "connection shares state is malformed";
+    if (state.compare(0, 4, options_.guiding ? "BDG1" : "BDS1") != 0) throw std::runtime_error(what);
     StateReader reader{state, 4};
     const uint64_t n = reader.get<uint64_t>();
-    if (n > state.size() - reader.at) throw std::runtime_error("guiding state is malformed");
+    if (n > state.size() - reader.at) throw std::runtime_error(what);
     pathTracer_.loadState(state.substr(reader.at, size_t(n)));
     loadOwnState(state.substr(reader.at + size_t(n)));
 }
@@ -339,11 +354,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 bool BdptIntegrator::learning(int pass) const {
     if (options_.guiding && pathTracer_.learning(pass)) return true;
     if (direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass)) return true;
+    if (sharesPassAt(pass)) return true;
     return planner_ && !planner_->decided();
 }
 
 void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
     if (options_.guiding) pathTracer_.endPass(scene, summary);  // training, then the noise of the passes after it
+    if (sharesPass_) pathTracer_.endPass(scene, summary);
     if (guideTraining_) return;
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
     if (planner_) {

@@ -33,6 +33,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.efficiencyAware = s.kind == IntegratorKind::EfficiencyAware && !variantOnly(s.connect);
     o.guiding = s.guiding;
     o.volumeLights = s.volumeLights;
+    o.learnShares = s.learnShares;
     return o;
 }
 

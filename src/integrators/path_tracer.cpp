@@ -417,7 +417,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     // records while the shares are learnt.
     thread_local std::vector<ConnectionShares::Record> shareRecords;
     shareRecords.clear();
-    const bool learningShares = shares_ && shares_->learning() && mode == ConnectMode::Mis;
+    const bool learningShares = shares_ && shares_->learning() && !sharesPaused_ && mode == ConnectMode::Mis;
     const ShareNotes notes{shares_ ? shares_->shares() : options_.shares, learningShares ? &shareRecords : nullptr};
     uint32_t mediumVertexCalls = 0;
     // Emission of the emitter at `hit`, reached along `ray` from the last vertex (strategy B),

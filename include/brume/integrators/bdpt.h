@@ -74,6 +74,10 @@ struct BdptOptions {
     // (grey scenes) and in the path tracer inside (auto's pt allocation, guiding's training
     // passes; PathTracerOptions::volumeLights).
     bool volumeLights = true;
+    // With --connect mis, the path tracer inside (auto's and --allocation's "path tracer")
+    // learns how often to make its light connections in media (connection_shares.h), from
+    // its first passes once it renders for good (IntegratorSettings::learnShares).
+    bool learnShares = false;
 
     // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general
     // connections with probability 1/4, by default.
@@ -116,6 +120,9 @@ public:
     const DirectLightTracing* directLightTracing() const { return direct_.get(); }
     // The guide (`guiding`; else null), for --stats.
     const PathGuide* guide() const { return options_.guiding ? pathTracer_.guide() : nullptr; }
+    // The connection shares of the path tracer inside (BdptOptions::learnShares; else null),
+    // for --stats.
+    const ConnectionShares* connectionShares() const { return pathTracer_.connectionShares(); }
     // The probability that a sample of the pass in force traces a light subpath: with
     // --max-depth 1, where light subpaths serve light tracing alone, its learned subpath share
     // (DirectLightTracing::subpathShare; camera connections then count that many times in the
@@ -132,12 +139,17 @@ private:
     bool learningDirect_ = false;  // this pass gathers direct_'s images
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
     bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
+    bool sharesPass_ = false;      // this pass teaches pathTracer_ its connection shares
     mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
     // Passes before the bidirectional tracer's own: the guide's training passes (16, or fewer
     // when its records filled up first).
     int guidePasses() const { return options_.guiding ? pathTracer_.guide()->trainingPasses() : 0; }
     std::string saveOwnState() const;
     void loadOwnState(const std::string& state);
+    // Whether pass `pass` is one the path tracer inside learns its shares from: its
+    // allocation is the path tracer's for good (after the planner's choice) and they are
+    // still learnt.
+    bool sharesPassAt(int pass) const;
 };
 
 }  // namespace brume

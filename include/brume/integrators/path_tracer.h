@@ -68,6 +68,11 @@ public:
         if (shares_) shares_->endPass(summary);
     }
     bool learning(int) const override { return (guide_ && guide_->learning()) || (shares_ && shares_->learning()); }
+    // Inside the efficiency-aware tracer the shares learn only from the passes its planner
+    // gives the path tracer for good (bdpt.cpp): the others, its pilot's probes and its duel
+    // passes, neither record nor count. Set between passes.
+    void pauseShares(bool paused) { sharesPaused_ = paused; }
+    bool sharesLearning() const { return shares_ && shares_->learning(); }
     // The guide's training passes, once the guided ones outnumber them (path_guide.h).
     LeftOutPasses leftOut() const override { return guide_ ? guide_->leftOut() : LeftOutPasses{}; }
     // The guide's state, then the shares' (connection_shares.h) after its length.
@@ -88,6 +93,7 @@ private:
     PathTracerOptions options_;
     std::unique_ptr<PathGuide> guide_;
     std::unique_ptr<ConnectionShares> shares_;
+    bool sharesPaused_ = false;
 };
 
 }  // namespace brume

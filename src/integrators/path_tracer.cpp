@@ -344,14 +344,21 @@ struct TrainingWalk {
 };
 
 // Counts the rays a part of a sample traces, and its calls (PathTracerCounts).
+// emptyIsFree: a call that traced no ray is not counted (the segment connection towards a
+// light at infinity, which has no equi-angular point, returns at once: charged the cost of a
+// call, it made learned shares in a sunlit cloud drop C for a saving that was not there).
 struct PartMeter {
     PathStats& stats;
     uint64_t& rays;
+    uint64_t& calls;
     uint64_t start;
-    PartMeter(PathStats& s, uint64_t& raysCount, uint64_t& callsCount) : stats(s), rays(raysCount), start(s.rays) {
-        ++callsCount;
+    bool emptyIsFree;
+    PartMeter(PathStats& s, uint64_t& raysCount, uint64_t& callsCount, bool emptyFree = false)
+        : stats(s), rays(raysCount), calls(callsCount), start(s.rays), emptyIsFree(emptyFree) {}
+    ~PartMeter() {
+        rays += stats.rays - start;
+        if (!emptyIsFree || stats.rays > start) ++calls;
     }
-    ~PartMeter() { rays += stats.rays - start; }
 };
 
 }  // namespace
@@ -494,7 +501,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const bool makeC = mode != ConnectMode::Mis || notes.q.segment >= 1 ||
                                sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment;
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth && makeC) {
-                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls);
+                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls, true);
                 L += counted(PathTracerTechnique::OnSegment,
                              beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
                                                       tables, passing, field, gd, stats, notes.scaled(beta)));

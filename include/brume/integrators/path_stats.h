@@ -38,7 +38,8 @@ struct BidirectionalCounts {
 
 // The path tracer's counts: its samples, the rays of its walk, and the calls and rays of each
 // part of its light connections: at vertices (free flight, surfaces), on segments
-// (equi-angular or product) and by an emitter's solid angle.
+// (equi-angular or product; only the calls that traced a ray) and by an emitter's solid
+// angle.
 struct PathTracerCounts {
     uint64_t samples = 0, walkRays = 0;
     uint64_t vertexRays = 0, vertexCalls = 0;

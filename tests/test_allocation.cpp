@@ -27,7 +27,7 @@ namespace {
 
 constexpr double kZ = 4.5;
 constexpr int kBatches = 32;
-constexpr int kDecided = AllocationPlanner::kLastDecisionPass + 1;  // passes until auto has chosen for good
+constexpr int kDecided = AllocationPlanner::kMaxLastDecisionPass + 1;  // passes until auto has chosen for good
 
 BdptOptions autoOptions(int maxDepth) {
     BdptOptions o{maxDepth, MisHeuristic::Power};
@@ -201,9 +201,10 @@ TEST_CASE("auto in single scattering duels the bidirectional tracer with light t
         CHECK(p.duelEfficiency(won) >= p.duelEfficiency(1 - won));
         CHECK(p.duelEfficiency(1 - won) > 0);
         // Left out: the pilot's 4 passes and the loser's 8.
-        CHECK(p.leftOutPasses() == AllocationPlanner::kDuelStart + AllocationDuel::kPasses);
-        for (int pass = AllocationPlanner::kDuelStart; pass <= AllocationPlanner::kLastDecisionPass; ++pass)
-            CHECK(p.sequenceIndex(pass, SamplerKind::Sobol) == uint64_t((pass - AllocationPlanner::kDuelStart) % AllocationDuel::kPasses));
+        CHECK(p.duelStart() == 4);
+        CHECK(p.leftOutPasses() == p.duelStart() + AllocationDuel::kPasses);
+        for (int pass = p.duelStart(); pass <= p.lastDecisionPass(); ++pass)
+            CHECK(p.sequenceIndex(pass, SamplerKind::Sobol) == uint64_t((pass - p.duelStart()) % AllocationDuel::kPasses));
         CHECK(p.sequenceIndex(kDecided, SamplerKind::Sobol) == uint64_t(AllocationDuel::kPasses));
         CHECK(p.sequenceIndex(kDecided, SamplerKind::Independent) == uint64_t(kDecided));
     }

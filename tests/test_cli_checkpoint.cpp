@@ -184,9 +184,9 @@ TEST_CASE("cli checkpoint: adaptive stopping resumes to the same bytes", "[cli][
     }
 }
 
-// auto's pilot ends after its fourth pass and its duel after its twentieth (allocation_planner.h):
-// stopped in the pilot, just after the pilot's choice, in the duel, and after a pass of the final
-// choice, it resumes to the same bytes.
+// auto's pilot ends after its second pass and its duel after its eighteenth (allocation_planner.h;
+// in single scattering the fourth and the twentieth): stopped in the pilot, just after the
+// pilot's choice, in the duel, and after a pass of the final choice, it resumes to the same bytes.
 TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[cli][checkpoint][auto]") {
     TempDir dir;
     // (72 passes: its image leaves out the pilot's and the duel loser's, renderer.h finalImage.)
@@ -195,7 +195,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     Result r = run(common + Args{"-o", dir / "straight.pfm"});
     REQUIRE(r.code == 0);
     CHECK(r.out.find("allocation: ") != std::string::npos);
-    for (const char* stop : {"3", "4", "5", "12", "20", "21"}) {
+    for (const char* stop : {"1", "2", "3", "10", "18", "19"}) {
         INFO("stopped after " << stop << " passes");
         REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
         r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
@@ -217,7 +217,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
 
 // Beside an area light in fog auto probes the path tracer (its distances by the light's solid
 // angle, allocation_planner.h), chooses it after the duel, and the path tracer then learns its
-// connection shares in passes 20–23 (connection_shares.h). Stopped in the pilot, inside and
+// connection shares in passes 18–21 (connection_shares.h). Stopped in the pilot, inside and
 // after that learning, it resumes to the same bytes. (Before the planner's state kept whether
 // it probes, such a checkpoint resumed to another choice and was refused as malformed.)
 TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the path tracer", "[cli][checkpoint][auto]") {
@@ -228,7 +228,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the p
     REQUIRE(r.code == 0);
     REQUIRE(r.out.find("allocation: path tracer") != std::string::npos);
     CHECK(r.out.find("connection shares: at medium vertices") != std::string::npos);
-    for (const char* stop : {"3", "21", "24"}) {
+    for (const char* stop : {"1", "19", "22"}) {
         INFO("stopped after " << stop << " passes");
         REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
         r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});

@@ -729,7 +729,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // choice, from pass 4 or 20, or from pass 0 with `--allocation "path tracer"`.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
         const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
-        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kLastDecisionPass + 1 + sharePasses)
+        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses)
                         : learns                    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
                         : a.guiding                 ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
                         : learnsShares              ? std::max(donePasses, ConnectionShares::kLearningPasses)

@@ -31,9 +31,9 @@ AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare)
 }
 
 const BdptAllocation& AllocationPlanner::allocationFor(int pass) const {
-    if (pass <= kDecisionPass || pilotChoice_ < 0) return candidates_[size_t(pilot_)];
-    if (dueling() && pass <= kLastDecisionPass)
-        return candidates_[size_t(duelists_[(pass - kDuelStart) / AllocationDuel::kPasses])];
+    if (pass <= decisionPass() || pilotChoice_ < 0) return candidates_[size_t(pilot_)];
+    if (dueling() && pass <= lastDecisionPass())
+        return candidates_[size_t(duelists_[(pass - duelStart()) / AllocationDuel::kPasses])];
     return candidates_[size_t(chosen_ >= 0 ? chosen_ : pilotChoice_)];
 }
 
@@ -49,10 +49,10 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
-    if (chosen_ < 0 && s.pass <= kLastDecisionPass)
-        addPassExact(s, leftOut_[s.pass < kDuelStart ? 0 : 1 + (s.pass - kDuelStart) / AllocationDuel::kPasses]);
-    if (s.pass > kDecisionPass) {
-        if (dueling() && chosen_ < 0 && s.pass <= kLastDecisionPass && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
+    if (chosen_ < 0 && s.pass <= lastDecisionPass())
+        addPassExact(s, leftOut_[s.pass < duelStart() ? 0 : 1 + (s.pass - duelStart()) / AllocationDuel::kPasses]);
+    if (s.pass > decisionPass()) {
+        if (dueling() && chosen_ < 0 && s.pass <= lastDecisionPass() && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
             std::vector<float> image;
             passImage(s, image);
             duelPass(s, image);
@@ -96,7 +96,7 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     moments_.add(s.totals.moments);
     counts_.add(s.totals.counts);
     samples_ += uint64_t(s.width) * uint64_t(s.height);
-    if (++collected_ == kCollectPasses) decide();
+    if (++collected_ == collectPasses()) decide();
 }
 
 // The cost of one pass of allocation a (sample_cost.h's units and weights), from the pilot's
@@ -205,8 +205,8 @@ double AllocationPlanner::leftOutNoise() const {
     if (chosen_ < 0 || !dueling()) return 0.0;
     const int won = chosen_ == duelists_[0] ? 0 : 1;
     const double mine = duel_.variance(won, 0), loser = duel_.variance(1 - won, 0);
-    const double theirs = pilotLeftOut() ? (kDuelStart * pilotVariance_ + AllocationDuel::kPasses * loser) /
-                                               (kDuelStart + AllocationDuel::kPasses)
+    const double theirs = pilotLeftOut() ? (duelStart() * pilotVariance_ + AllocationDuel::kPasses * loser) /
+                                               (duelStart() + AllocationDuel::kPasses)
                                          : loser;
     return mine > 0 ? theirs / mine : 0.0;
 }
@@ -222,7 +222,7 @@ void AllocationPlanner::keepLeftOut() {
             for (size_t i = 0; i < out.size() && i < sums.size(); ++i) out[i] += sums[i];
         leftOutPasses_ += passes;
     };
-    if (pilotLeftOut()) add(leftOut_[0], kDuelStart);
+    if (pilotLeftOut()) add(leftOut_[0], duelStart());
     if (dueling()) add(leftOut_[chosen_ == duelists_[0] ? 2 : 1], AllocationDuel::kPasses);
     for (std::vector<FixedSum>& v : leftOut_) v = std::vector<FixedSum>();
     leftOut_[0] = std::move(out);
@@ -262,7 +262,7 @@ void AllocationPlanner::startDuel() {
 }
 
 void AllocationPlanner::duelPass(const PassSummary& s, const std::vector<float>& image) {
-    const int k = s.pass - kDuelStart, c = k / AllocationDuel::kPasses, i = k % AllocationDuel::kPasses;
+    const int k = s.pass - duelStart(), c = k / AllocationDuel::kPasses, i = k % AllocationDuel::kPasses;
     if (duel_.passes(c) != i || (c == 1 && duel_.passes(0) != AllocationDuel::kPasses)) return;  // (in order only)
     duel_.addWork(c, s.totals, double(s.width) * double(s.height));
     duel_.addPass(c, i, image, weights_);
@@ -429,8 +429,8 @@ void AllocationPlanner::loadState(const std::string& state) {
     const int n = int(candidates_.size());
     auto index = [n](int j) { return j >= -1 && j < n; };
     if (!index(pilotChoice) || !index(chosen) || !index(duelist0) || !index(duelist1) || collected < 0 ||
-        collected > kCollectPasses || passes < 0 || passes > kDecisionPass + 1 || width < 0 || height < 0 ||
-        width > (1 << 16) || height > (1 << 16) || (pilotChoice >= 0 && collected != kCollectPasses))
+        collected > collectPasses() || passes < 0 || passes > decisionPass() + 1 || width < 0 || height < 0 ||
+        width > (1 << 16) || height > (1 << 16) || (pilotChoice >= 0 && collected != collectPasses()))
         throw std::runtime_error("allocation state is malformed");
     samples_ = r.get<uint64_t>();
     moments_.forEach([&](double& m) { m = r.get<double>(); });
@@ -446,7 +446,7 @@ void AllocationPlanner::loadState(const std::string& state) {
         v = r.getVector<FixedSum>(values);
         if (!v.empty() && v.size() != values) throw std::runtime_error("allocation state is malformed");
     }
-    if (leftOutPasses < 0 || leftOutPasses > kLastDecisionPass + 1) throw std::runtime_error("allocation state is malformed");
+    if (leftOutPasses < 0 || leftOutPasses > kMaxLastDecisionPass + 1) throw std::runtime_error("allocation state is malformed");
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
     pilotChoice_ = chosen_ = -1;
     probe_ = probe != 0;

@@ -6,14 +6,14 @@
 // importance sampling for bidirectional rendering algorithms" (SIGGRAPH 2022).
 //
 // Schedule, by the film's pass index:
-//   passes 0–3    pilot, with independent samples; pass 0 gives each pixel's weight
-//                 1/(Ī² + ε) (Ī: its value box-filtered 5×5; ε = 0.01 as in `brume bench`'s
-//                 relative MSE); the spread of the four passes' values gives the pilot's own
-//                 relative variance V_pilot;
-//   passes 1–3    also: every second pixel in x and y records its contributions, for the
+//   passes 0–1    pilot (0–3 in single scattering, below), with independent samples; pass
+//                 0 gives each pixel's weight 1/(Ī² + ε) (Ī: its value box-filtered 5×5;
+//                 ε = 0.01 as in `brume bench`'s relative MSE); the spread of the pilot
+//                 passes' values gives the pilot's own relative variance V_pilot;
+//   pass 1 (1–3)  also: every second pixel in x and y records its contributions, for the
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays;
-//   passes 4–19   the duel (allocation_duel.h), where the pilot rated the best
+//   passes 2–17   (4–19) the duel (allocation_duel.h), where the pilot rated the best
 //                 bidirectional allocation and the path tracer within 16× of each other:
 //                 the two render 8 passes each, in turn, with the sampler asked for (each
 //                 from Sobol index 0: an aligned block), and the better at equal cost
@@ -28,7 +28,7 @@
 //   then          the chosen allocation, for good, with the sampler asked for, continuing
 //                 its own sequence (sequenceIndex).
 // In single scattering (learnedShare) the bidirectional tracer also learns light tracing's
-// share of one-event paths in passes 0–3 (direct_light_tracing.h: the same passes, the same
+// share of one-event paths in passes 0–3, its pilot (direct_light_tracing.h: the same passes, the same
 // independent numbers and plain weights), and its camera walk passes through media at its
 // one scattering event, as the fixed tracer's does. The pilot's estimate knows neither, so
 // the duel always takes place, between the pilot's allocation (every strategy) with the
@@ -70,12 +70,19 @@ namespace brume {
 
 class AllocationPlanner {
 public:
-    static constexpr int kWeightPasses = 1, kCollectPasses = 3;
-    static constexpr int kDecisionPass = kWeightPasses + kCollectPasses - 1;  // the pilot's choice after it
+    // The pilot: one pass for the pixel weights, then passes that collect statistics: one in
+    // full transport; three in single scattering, where light tracing's share learns in the
+    // same four passes (direct_light_tracing.h). (Three in full transport too until the pilot
+    // was measured to take a quarter of a 4-s render: with one, the default gained 1.11× in
+    // the geometric mean over the six validation scenes, docs/results.md.)
+    static constexpr int kWeightPasses = 1, kCollectPassesFull = 1, kCollectPassesSingle = 3;
+    int collectPasses() const { return learnedShare_ ? kCollectPassesSingle : kCollectPassesFull; }
+    int decisionPass() const { return kWeightPasses + collectPasses() - 1; }  // the pilot's choice after it
     // The duel's passes (allocation_duel.h), one contender after the other, and the last pass
-    // after which the allocation may still change.
-    static constexpr int kDuelStart = kDecisionPass + 1;
-    static constexpr int kLastDecisionPass = kDuelStart + 2 * AllocationDuel::kPasses - 1;
+    // after which the allocation may still change (at most kMaxLastDecisionPass).
+    int duelStart() const { return decisionPass() + 1; }
+    int lastDecisionPass() const { return duelStart() + 2 * AllocationDuel::kPasses - 1; }
+    static constexpr int kMaxLastDecisionPass = kWeightPasses + kCollectPassesSingle + 2 * AllocationDuel::kPasses - 1;
 
     // learnedShare: in single scattering, where the bidirectional tracer learns light
     // tracing's share (direct_light_tracing.h), the duel's bidirectional contender is the
@@ -93,11 +100,11 @@ public:
 
     // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
     const BdptAllocation& allocationFor(int pass) const;
-    bool collects(int pass) const { return pilotChoice_ < 0 && pass >= kWeightPasses && pass <= kDecisionPass; }
+    bool collects(int pass) const { return pilotChoice_ < 0 && pass >= kWeightPasses && pass <= decisionPass(); }
     // The pilot passes sample independently (their spread measures the pilot's variance);
     // the rest with the sampler asked for.
     SamplerKind samplerFor(int pass, SamplerKind requested) const {
-        return pass <= kDecisionPass ? SamplerKind::Independent : requested;
+        return pass <= decisionPass() ? SamplerKind::Independent : requested;
     }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
     // The index of pass `pass` in the sequence of a sampler of kind `kind`. With Sobol the
@@ -108,10 +115,10 @@ public:
     // error of 143 passes from 8). Independent numbers are indexed by the pass itself (two
     // passes with one index would repeat their numbers). Known when the pass starts.
     uint64_t sequenceIndex(int pass, SamplerKind kind) const {
-        if (kind != SamplerKind::Sobol || pass <= kDecisionPass) return uint64_t(pass);
-        if (!dueling()) return uint64_t(pass - kDuelStart);
-        if (pass <= kLastDecisionPass) return uint64_t((pass - kDuelStart) % AllocationDuel::kPasses);
-        return uint64_t(pass - kDuelStart - AllocationDuel::kPasses);
+        if (kind != SamplerKind::Sobol || pass <= decisionPass()) return uint64_t(pass);
+        if (!dueling()) return uint64_t(pass - duelStart());
+        if (pass <= lastDecisionPass()) return uint64_t((pass - duelStart()) % AllocationDuel::kPasses);
+        return uint64_t(pass - duelStart() - AllocationDuel::kPasses);
     }
     // Once decided: the passes the image may leave out (the pilot's and the duel's loser's;
     // with the path tracer's duel passes when the bidirectional one won, the pilot's stay) and

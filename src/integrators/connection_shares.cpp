@@ -94,14 +94,15 @@ void ConnectionShares::decide(const PassSummary& summary) {
         for (int j = 0; j < kCandidates; ++j) variance[j] += w * (moments_[p * kCandidates + size_t(j)] / passes_ - mean * mean);
         vertexCalls += vertexCalls_[p];
     }
-    // Cost of the learning passes' samples, less the connections a candidate would skip.
+    // Cost of the learning passes' samples, less the connections a candidate would skip (on
+    // segments only those that trace: the others return at once, path_stats.h).
     const double base = pathTracerCost(counts_.pt);
     int best = 0;
     for (int j = 0; j < kCandidates; ++j) {
         const Shares q = candidate(j);
         variance_[j] = variance[j];
         cost_[j] = base - pt_cost::kVertexCall * (1.0 - q.vertex) * double(vertexCalls) -
-                   pt_cost::kSegmentCall * (1.0 - q.segment) * double(counts_.pt.segmentCalls);
+                   pt_cost::kSegmentCall * (1.0 - q.segment) * double(counts_.pt.segmentTracingCalls);
         if (variance_[j] > 0 && cost_[j] > 0 && variance_[j] * cost_[j] < variance_[best] * cost_[best]) best = j;
     }
     shares_ = candidate(best);

@@ -344,20 +344,19 @@ struct TrainingWalk {
 };
 
 // Counts the rays a part of a sample traces, and its calls (PathTracerCounts).
-// emptyIsFree: a call that traced no ray is not counted (the segment connection towards a
-// light at infinity, which has no equi-angular point, returns at once: charged the cost of a
-// call, it made learned shares in a sunlit cloud drop C for a saving that was not there).
+// tracing: also counts the calls that traced a ray (PathTracerCounts::segmentTracingCalls).
 struct PartMeter {
     PathStats& stats;
     uint64_t& rays;
-    uint64_t& calls;
+    uint64_t* tracing;
     uint64_t start;
-    bool emptyIsFree;
-    PartMeter(PathStats& s, uint64_t& raysCount, uint64_t& callsCount, bool emptyFree = false)
-        : stats(s), rays(raysCount), calls(callsCount), start(s.rays), emptyIsFree(emptyFree) {}
+    PartMeter(PathStats& s, uint64_t& raysCount, uint64_t& callsCount, uint64_t* tracingCalls = nullptr)
+        : stats(s), rays(raysCount), tracing(tracingCalls), start(s.rays) {
+        ++callsCount;
+    }
     ~PartMeter() {
         rays += stats.rays - start;
-        if (!emptyIsFree || stats.rays > start) ++calls;
+        if (tracing && stats.rays > start) ++*tracing;
     }
 };
 
@@ -501,7 +500,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const bool makeC = mode != ConnectMode::Mis || notes.q.segment >= 1 ||
                                sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment;
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth && makeC) {
-                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls, true);
+                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls,
+                                      &stats.counts.pt.segmentTracingCalls);
                 L += counted(PathTracerTechnique::OnSegment,
                              beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
                                                       tables, passing, field, gd, stats, notes.scaled(beta)));

@@ -38,12 +38,15 @@ struct BidirectionalCounts {
 
 // The path tracer's counts: its samples, the rays of its walk, and the calls and rays of each
 // part of its light connections: at vertices (free flight, surfaces), on segments
-// (equi-angular or product; only the calls that traced a ray) and by an emitter's solid
-// angle.
+// (equi-angular or product) and by an emitter's solid angle. segmentTracingCalls: the calls on
+// segments that traced a ray (the others return at once: towards a light at infinity, which
+// has no equi-angular point, or where distances by an emitter's solid angle take C's place);
+// what the connection shares save by skipping C (connection_shares.h). The cost model
+// (sample_cost.h) was fitted on every call.
 struct PathTracerCounts {
     uint64_t samples = 0, walkRays = 0;
     uint64_t vertexRays = 0, vertexCalls = 0;
-    uint64_t segmentRays = 0, segmentCalls = 0;
+    uint64_t segmentRays = 0, segmentCalls = 0, segmentTracingCalls = 0;
     uint64_t solidAngleRays = 0, solidAngleCalls = 0;
     uint64_t connectionRays() const { return vertexRays + segmentRays + solidAngleRays; }
 };
@@ -65,7 +68,7 @@ struct PathCounts {
         n = 0;
         forEach([&](uint64_t& v) { v += *from[n++]; });
     }
-    static constexpr int kCount = 2 * kStrategyKinds + 2 + 2 * (kStrategyKinds - 1) + 2 + 8;
+    static constexpr int kCount = 2 * kStrategyKinds + 2 + 2 * (kStrategyKinds - 1) + 2 + 9;
 
 private:
     template <class Self, class F>
@@ -78,7 +81,7 @@ private:
             for (auto& v : s.bdpt.connectionRays[k]) f(v);
         for (auto& v : s.bdpt.replaceableRays) f(v);
         for (auto* v : {&s.pt.samples, &s.pt.walkRays, &s.pt.vertexRays, &s.pt.vertexCalls, &s.pt.segmentRays,
-                        &s.pt.segmentCalls, &s.pt.solidAngleRays, &s.pt.solidAngleCalls})
+                        &s.pt.segmentCalls, &s.pt.segmentTracingCalls, &s.pt.solidAngleRays, &s.pt.solidAngleCalls})
             f(*v);
     }
 };

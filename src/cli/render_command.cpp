@@ -519,9 +519,6 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     return method;
 }
 
-// The bidirectional tracer whose strategies the strategy images show: with auto, the
-// allocation it chose; with light tracing's learned share (bdpt; auto in single scattering,
-// when its duel kept the allocation that carries it), that share.
 // The connection shares the render learns (connection_shares.h): the path tracer's, or the
 // path tracer's inside bdpt and auto; null if none.
 const ConnectionShares* connectionSharesOf(const RenderArgs& a, const Integrator& integrator) {
@@ -529,6 +526,9 @@ const ConnectionShares* connectionSharesOf(const RenderArgs& a, const Integrator
     return static_cast<const BdptIntegrator&>(integrator).connectionShares();
 }
 
+// The bidirectional tracer whose strategies the strategy images show: with auto, the
+// allocation it chose; with light tracing's learned share (bdpt; auto in single scattering,
+// when its duel kept the allocation that carries it), that share.
 BdptOptions strategyOptions(BdptOptions o, const AllocationPlanner* planner, const DirectLightTracing* direct) {
     if (planner) {
         o.allocation = planner->chosen();
@@ -725,8 +725,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
         // And the path tracer the passes that learn its connection shares (connection_shares.h).
-        // (auto's and bdpt's path tracer learn theirs once it renders for good: after auto's
-        // choice, from pass 4 or 20, or from pass 0 with `--allocation "path tracer"`.)
+        // (auto's and bdpt's path tracer learn theirs once it renders for good: in the 4 passes
+        // after auto's pilot or duel, or from pass 0 with `--allocation "path tracer"`.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
         const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
         plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses)

@@ -170,7 +170,6 @@ struct ShareNotes {
     ShareNotes scaled(const Spectrum& b) const { return ShareNotes{q, records, b}; }
 };
 
-
 // The density with which the walk, had it scattered at x travelling along d, would have
 // continued along w: the guided mixture where the field guides (guided_phase.h), else the
 // phase function `phase` itself.

@@ -515,6 +515,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.guidedDistanceDepth = a.guidedDistances;
     method.volumeLights = a.volumeLights;
     method.heuristic = a.heuristic;
+    method.plannedPasses = a.seconds > 0 ? 0 : a.spp;
     if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
     return method;
 }

@@ -21,8 +21,8 @@ constexpr int kBlur = 2;                   // the pixel weights' box filter radi
 
 }  // namespace
 
-AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare)
-    : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare) {
+AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare, int plannedPasses)
+    : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare), plannedPasses_(plannedPasses) {
     static_assert(AllocationMoments::kCandidates >= 31, "a moment per candidate");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
@@ -253,6 +253,11 @@ void AllocationPlanner::startDuel() {
         chosen_ = -1;
         return;
     }
+    // A duel pays for its passes only through the passes after it, and in full transport it
+    // overturns the pilot's choice only by 2×: in a render whose passes are known and fewer
+    // than its own after it, the pilot's choice stands (the default 16 spp: 14 passes of it
+    // instead of 8 + 6 of the two contenders, the choice left undecided).
+    if (plannedPasses_ > 0 && plannedPasses_ < lastDecisionPass() + 1 + 2 * AllocationDuel::kPasses) return;
     const double b = estimates_[size_t(bidirectional)].efficiency, p = estimates_[size_t(pathTracer)].efficiency;
     if (b > 0 && p > 0 && std::max(b, p) <= kDuelRange * std::min(b, p)) {
         duelists_[0] = bidirectional;

@@ -49,7 +49,8 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
         // (Its statistics need the equi-angular variants to add to the free-flight ones.)
         if (variantOnly(options_.connect))
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
-        planner_ = std::make_unique<AllocationPlanner>(options_.connect, learnable && options_.maxDepth == 1);
+        planner_ = std::make_unique<AllocationPlanner>(options_.connect, learnable && options_.maxDepth == 1,
+                                                       options_.plannedPasses);
         options_.allocation = planner_->allocationFor(0);
     }
     if (planner_ ? planner_->learnedShare() : learnable && options_.allocation.lightSubpaths && options_.allocation.lightTracing)

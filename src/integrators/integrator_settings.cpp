@@ -34,6 +34,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.guiding = s.guiding;
     o.volumeLights = s.volumeLights;
     o.learnShares = s.learnShares;
+    o.plannedPasses = s.plannedPasses;
     return o;
 }
 

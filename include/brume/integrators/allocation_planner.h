@@ -25,6 +25,8 @@
 //                 pilot's estimate cannot see what Owen-scrambled Sobol gives each (34× the
 //                 path tracer, 3.9× the bidirectional tracer, at 64 spp on one lamp in fog);
 //                 the duel measures it;
+//                 In full transport a render whose passes are known (--spp) and leave
+//                 fewer than 16 after the duel holds none: the pilot's choice stands;
 //   then          the chosen allocation, for good, with the sampler asked for, continuing
 //                 its own sequence (sequenceIndex).
 // In single scattering (learnedShare) the bidirectional tracer also learns light tracing's
@@ -87,7 +89,9 @@ public:
     // learnedShare: in single scattering, where the bidirectional tracer learns light
     // tracing's share (direct_light_tracing.h), the duel's bidirectional contender is the
     // pilot's allocation with that share, and the duel alone decides (decideDuel).
-    explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false);
+    // plannedPasses: the passes the render will take (0: not known); in full transport the
+    // duel is held only if at least 2·AllocationDuel::kPasses passes follow it (startDuel).
+    explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false, int plannedPasses = 0);
     bool learnedShare() const { return learnedShare_; }
     // How often that contender traces a light subpath (for the report); told before each pass.
     void setLightShare(double q) { lightShare_ = q; }
@@ -174,6 +178,7 @@ private:
     int pilot_ = 0;
     bool probe_ = false;
     bool learnedShare_ = false;
+    int plannedPasses_ = 0;
     double lightShare_ = 1.0;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)

@@ -78,6 +78,10 @@ struct BdptOptions {
     // learns how often to make its light connections in media (connection_shares.h), from
     // its first passes once it renders for good (IntegratorSettings::learnShares).
     bool learnShares = false;
+    // efficiencyAware: the passes the render will take (0: not known, e.g. `--time`). In full
+    // transport the duel is held only where at least as many passes follow it as it takes
+    // (allocation_planner.h); a short render keeps the pilot's choice.
+    int plannedPasses = 0;
 
     // Which strategies each sample makes, and how often (bdpt_allocation.h): every one, general
     // connections with probability 1/4, by default.

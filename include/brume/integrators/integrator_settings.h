@@ -31,6 +31,9 @@ struct IntegratorSettings {
     // The path tracer with --connect mis learns how often to make its light connections in
     // media (connection_shares.h); false: always both (tests that need fixed weights).
     bool learnShares = true;
+    // The passes the render will take, where known in advance (`--spp` without `--time`);
+    // 0: not known. auto holds its duel only where enough passes follow it (BdptOptions).
+    int plannedPasses = 0;
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two
     // variants kept for measurement (BdptOptions).

@@ -215,6 +215,36 @@ TEST_CASE("auto in single scattering duels the bidirectional tracer with light t
     CHECK(full.directLightTracing() == nullptr);
 }
 
+// In full transport a render whose passes are known and leave fewer than the duel's own after
+// it holds no duel: the pilot's choice is final after the pilot. The same scene with the
+// passes not known (or enough of them) holds it; single scattering always does.
+TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    auto planned = [&](int maxDepth, int passes) {
+        BdptOptions o = autoOptions(maxDepth);
+        o.plannedPasses = passes;
+        return o;
+    };
+    {
+        BdptIntegrator unknown(planned(-1, 0));
+        const AllocationPlanner& p = plan(*scene, unknown, 24, 18);
+        INFO(p.report());
+        REQUIRE(p.dueling());  // (the test needs a scene where the duel is held)
+    }
+    for (int passes : {16, 33}) {
+        BdptIntegrator short_(planned(-1, passes));
+        const AllocationPlanner& p = plan(*scene, short_, 24, 18);
+        INFO(passes << " passes planned: " << p.report());
+        CHECK_FALSE(p.dueling());
+        CHECK(p.decided());
+        CHECK(p.allocationFor(p.duelStart()) == p.chosen());
+    }
+    BdptIntegrator enough(planned(-1, 34));
+    CHECK(plan(*scene, enough, 24, 18).dueling());
+    BdptIntegrator single(planned(1, 16));
+    CHECK(plan(*scene, single, 24, 18).dueling());
+}
+
 // The image leaves out the pilot's and the duel loser's passes where they are noisier per
 // pass, or once the others are kLeftOutRatio times as many (with Sobol numbers): exactly
 // those sums, and not otherwise.

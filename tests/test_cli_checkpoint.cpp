@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <regex>
 #include <string>
@@ -103,6 +104,19 @@ Args operator+(Args a, const Args& b) {
     return a;
 }
 
+// Each stop: the render `args` stopped by SIGTERM after that many passes with a checkpoint at
+// `ckpt`, then resumed on one thread into `out`, gives the bytes of `straight`.
+void checkResumes(const Args& args, const std::string& ckpt, const std::string& out, const std::string& straight,
+                  std::initializer_list<const char*> stops) {
+    for (const char* stop : stops) {
+        INFO("stopped after " << stop << " passes");
+        REQUIRE(run(args + Args{"-o", out, "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        const Result r = run(args + Args{"-o", out, "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(out) == readFile(straight));
+    }
+}
+
 }  // namespace
 
 TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as straight through", "[cli][checkpoint]") {
@@ -169,13 +183,7 @@ TEST_CASE("cli checkpoint: adaptive stopping resumes to the same bytes", "[cli][
         INFO(r.out);
         CHECK(std::stod(m[1]) < summarySpp(r.out));
         CHECK(summarySpp(r.out) > 30);
-        for (const char* stop : {"10", "18", "30"}) {
-            INFO("stopped after " << stop << " passes");
-            REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
-            r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
-            CHECK(r.code == 0);
-            CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
-        }
+        checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"10", "18", "30"});
         // Without the threshold, or with another, the checkpoint does not continue.
         Args plain = {data("bdpt_quad_fogbox.gltf"), "--integrator", integrator, "--res", "40x30", "--spp", "64"};
         checkOneLineError(run(plain + Args{"-o", dir / "c.pfm", "--resume", ckpt}), "--noise-threshold");
@@ -195,23 +203,14 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     Result r = run(common + Args{"-o", dir / "straight.pfm"});
     REQUIRE(r.code == 0);
     CHECK(r.out.find("allocation: ") != std::string::npos);
-    for (const char* stop : {"1", "2", "3", "10", "18", "19"}) {
-        INFO("stopped after " << stop << " passes");
-        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
-        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
-        CHECK(r.code == 0);
-        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
-    }
+    checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"1", "2", "3", "10", "18", "19"});
     // In single scattering it also learns light tracing's share in its pilot passes.
     const Args single = common + Args{"--max-depth", "1"};
     r = run(single + Args{"-o", dir / "single.pfm"});
     REQUIRE(r.code == 0);
-    for (const char* stop : {"3", "4", "12", "20", "21"}) {
-        INFO("single scattering, stopped after " << stop << " passes");
-        REQUIRE(run(single + Args{"-o", dir / "c.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
-        r = run(single + Args{"-o", dir / "c.pfm", "--resume", ckpt, "--threads", "1"});
-        CHECK(r.code == 0);
-        CHECK(readFile(dir / "c.pfm") == readFile(dir / "single.pfm"));
+    {
+        INFO("single scattering");
+        checkResumes(single, ckpt, dir / "c.pfm", dir / "single.pfm", {"3", "4", "12", "20", "21"});
     }
 }
 
@@ -228,13 +227,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the p
     REQUIRE(r.code == 0);
     REQUIRE(r.out.find("allocation: path tracer") != std::string::npos);
     CHECK(r.out.find("connection shares: at medium vertices") != std::string::npos);
-    for (const char* stop : {"1", "19", "22"}) {
-        INFO("stopped after " << stop << " passes");
-        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
-        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
-        CHECK(r.code == 0);
-        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
-    }
+    checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"1", "19", "22"});
 }
 
 // bdpt learns light tracing's share of one-scattering paths in its first four passes

@@ -107,7 +107,8 @@ TEST_CASE("pt --connect mis with connection shares below one still matches its o
         // (a share it made without dividing by it shows here: z > 30).
         {"single_dense.gltf", Vec3(0.3f, 0.2f, -3), Vec3(2.0f), Vec3(0.5f), 0.3, false},
     };
-    const ConnectionShares::Shares shares[] = {{0.5f, 0.25f}, {0.25f, 1.0f}, {1.0f, 0.25f}};
+    // (A share of 0 leaves one technique out: C alone at medium vertices, or A alone.)
+    const ConnectionShares::Shares shares[] = {{0.5f, 0.25f}, {0.25f, 1.0f}, {1.0f, 0.25f}, {0.0f, 1.0f}, {1.0f, 0.0f}};
     const int W = 10, H = 10;
     for (const ConnectionShares::Shares q : shares) {
         for (const SingleCase& sc : cases) {
@@ -139,14 +140,17 @@ TEST_CASE("pt --connect mis with connection shares below one still matches its o
 // Past the first event (at --max-depth 1 the walk passes through the medium and only C is
 // made), under a directional light (which C cannot sample: A alone lights the fog, with
 // weight 1, so an A that forgot to divide by its share is off by that share) and in dense fog
-// under a point light: the shares against all-ones, per pixel and in the image mean.
+// under a point light: the shares against all-ones, per pixel and in the image mean. A share
+// of 0 there is made anyway where no other strategy could (C past the first event, A under
+// the sun): without that, both images lose light.
 TEST_CASE("pt --connect mis: connection shares agree with making every connection", "[pt][sanitizer-skip]") {
     for (const char* file : {"bdpt_window_fog.gltf", "single_dense.gltf"}) {
     auto scene = loadTestScene(file);
     const int W = 12;
     PathTracerOptions all{2, true, ConnectMode::Mis};
     const auto ref = estimatePixels(*scene, PathTracer(all), W, W, 1024, 23);
-    for (const ConnectionShares::Shares q : {ConnectionShares::Shares{0.25f, 0.25f}, ConnectionShares::Shares{0.5f, 1.0f}}) {
+    for (const ConnectionShares::Shares q : {ConnectionShares::Shares{0.25f, 0.25f}, ConnectionShares::Shares{0.5f, 1.0f},
+                                             ConnectionShares::Shares{0.0f, 0.5f}, ConnectionShares::Shares{1.0f, 0.0f}}) {
         PathTracerOptions o = all;
         o.shares = q;
         const auto px = estimatePixels(*scene, PathTracer(o), W, W, 1024, 29);

@@ -14,6 +14,7 @@ namespace {
 // A record's weight under shares q: the power heuristic the path tracer weighs with, over the
 // strategies' densities with A's and C's times their shares.
 double weightUnder(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
+    q = ConnectionShares::madeWith(q, r.p);
     const StrategyDensities p{r.p.a * q.vertex, r.p.b, r.p.c * q.segment, r.p.d};
     switch (r.technique) {
         case ConnectionShares::Technique::Vertex: return powerWeight(p.a, p);
@@ -25,6 +26,7 @@ double weightUnder(const ConnectionShares::Record& r, ConnectionShares::Shares q
 }
 
 double shareOf(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
+    q = ConnectionShares::madeWith(q, r.p);
     switch (r.technique) {
         case ConnectionShares::Technique::Vertex: return q.vertex;
         case ConnectionShares::Technique::Segment: return q.segment;
@@ -64,7 +66,7 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
             const double v = records[i].value * weightUnder(records[i], q);
             s += v;
             const double share = shareOf(records[i], q);
-            if (share < 1) bernoulli += v * v * (1.0 / share - 1.0);
+            if (share < 1 && share > 0) bernoulli += v * v * (1.0 / share - 1.0);  // (share 0: v = 0)
         }
         const double moment = s * s + bernoulli;
         if (std::isfinite(moment)) m[j] += moment;
@@ -132,7 +134,7 @@ std::string ConnectionShares::report() const {
 }
 
 std::string ConnectionShares::saveState() const {
-    std::string out = "CSH1";
+    std::string out = "CSH2";
     auto put = [&](const void* p, size_t bytes) { out.append(static_cast<const char*>(p), bytes); };
     const uint8_t decided = decided_ ? 1 : 0;
     put(&decided, 1);
@@ -152,7 +154,7 @@ std::string ConnectionShares::saveState() const {
 }
 
 void ConnectionShares::loadState(const std::string& state) {
-    if (state.compare(0, 4, "CSH1") != 0) throw std::runtime_error("connection shares state is malformed");
+    if (state.compare(0, 4, "CSH2") != 0) throw std::runtime_error("connection shares state is malformed");
     StateReader r{state, 4};
     decided_ = r.get<uint8_t>() != 0;
     shares_ = r.get<Shares>();

@@ -123,8 +123,12 @@ struct MediumPath {
     double c = -1, d = -1;
 };
 
+// noVertex: free flight makes no vertex where this path scatters (the walk passes through the
+// segment, or a mode without A), so A's density is 0. made: the shares the path is made with
+// (ConnectionShares::madeWith).
 StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const MediumPath& path, ConnectMode mode,
-                               SolidAngleTables& tables, ConnectionShares::Shares q) {
+                               SolidAngleTables& tables, ConnectionShares::Shares q, bool noVertex = false,
+                               ConnectionShares::Shares* made = nullptr) {
     const Light& light = *path.light;
     StrategyDensities p;
     if (usesDensity(mode, light)) p.a = double(o.pFreeFlight) * path.pick * path.pL;
@@ -149,9 +153,13 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
             p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
     }
-    // A and C made with probabilities qA and qC (connection_shares.h): densities q·p.
-    p.a *= double(q.vertex);
-    p.c *= double(q.segment);
+    if (noVertex) p.a = 0;
+    // A and C made with probabilities qA and qC (connection_shares.h): densities q·p; a share
+    // of 0 only where another strategy makes the path.
+    const ConnectionShares::Shares e = ConnectionShares::madeWith(q, p);
+    p.a *= double(e.vertex);
+    p.c *= double(e.segment);
+    if (made) *made = e;
     return p;
 }
 
@@ -196,6 +204,12 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     int li = pickLight(scene, sampler, dims, 0, &pick);
     const Light& light = scene.lights()[li];
     if (v.origin && !usesDensity(mode, light)) return Spectrum(0.0f);  // C's job in this mode
+    // A share of 0 at a medium vertex (the caller made this call whatever its number): made
+    // only towards a light no other strategy reaches (ConnectionShares::madeWith: a delta
+    // light that C cannot sample and D does not take).
+    if (v.origin && shares.q.vertex <= 0 &&
+        (!light.isDelta() || usesEquiAngular(scene, mode, light, v.origin->seg) || usesSolidAngle(scene, mode, light, v.origin->seg)))
+        return Spectrum(0.0f);
     LightSample ls;
     if (!sampleLight(scene, light, v.p, lightPointNumbers(light, sampler, dims + dim::kLightPoint, 0), &ls) || isBlack(ls.Le)) return Spectrum(0.0f);
     float scatterPdf;
@@ -205,10 +219,11 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     StrategyDensities p;
     float q = 1;  // A's share at a medium vertex (connection_shares.h)
     if (v.origin) {
+        ConnectionShares::Shares made;
         p = densitiesOf(scene, *v.origin, MediumPath{&light, pick, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf},
-                        mode, tables, shares.q);
+                        mode, tables, shares.q, false, &made);
         w = powerWeight(p.a, p);
-        q = shares.q.vertex;
+        q = made.vertex;
     } else {
         w = ls.isDelta ? 1.0f : powerHeuristic(pick * ls.pdf, scatterPdf);
     }
@@ -284,8 +299,8 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
-    StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q);
-    if (mode != ConnectMode::Mis || passing) p.a = 0;  // equiangular, product, passing: C replaces A
+    // equiangular, product, passing: C replaces A
+    const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q, mode != ConnectMode::Mis || passing);
     float w = powerWeight(p.c, p);
     if (w == 0) return Spectrum(0.0f);
     const Spectrum value = inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
@@ -495,9 +510,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                     ? GuidedDistance::on(field, seg.o, seg.d, seg.tEnd, m->sigmaT().x, guide_->settings().fixedShare)
                     : GuidedDistance{};
             const GuidedDistance* gd = guidedDistance.share() > 0 ? &guidedDistance : nullptr;
-            // C, made with probability qC (connection_shares.h; always outside mis mode).
+            // C, made with probability qC (connection_shares.h; always outside mis mode, and
+            // with a share of 0 only where the walk passes through: ConnectionShares::madeWith).
             const bool makeC = mode != ConnectMode::Mis || notes.q.segment >= 1 ||
-                               sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment;
+                               (notes.q.segment <= 0 ? passing : sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth && makeC) {
                 const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls,
                                       &stats.counts.pt.segmentTracingCalls);
@@ -556,9 +572,11 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             betaBefore = beta;
             adjoint = guided.cell ? guided.cell->mediumAdjoint : -1.0f;
             Spectrum direct(0.0f);  // per unit of throughput (a training record keeps it)
-            // A, made with probability qA in mis mode (connection_shares.h).
+            // A, made with probability qA in mis mode (connection_shares.h; with a share of 0
+            // sampleDirect makes it only where no other strategy can).
             const uint32_t aDims = dim::connection(1, depth + 1);
-            if (nee && (mode != ConnectMode::Mis || notes.q.vertex >= 1 || sampler.get1D(aDims + dim::kConnect) < notes.q.vertex)) {
+            if (nee && (mode != ConnectMode::Mis || notes.q.vertex >= 1 || notes.q.vertex <= 0 ||
+                        sampler.get1D(aDims + dim::kConnect) < notes.q.vertex)) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
                 direct = sampleDirect(scene, v, media, mode, sampler, aDims, tables, stats, notes.scaled(beta));
                 L += counted(PathTracerTechnique::AtVertex, beta * direct);

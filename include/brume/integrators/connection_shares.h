@@ -37,13 +37,25 @@ namespace brume {
 class ConnectionShares {
 public:
     static constexpr int kLearningPasses = 4;
-    static constexpr int kCandidates = 9;  // qA, qC in {1, 1/2, 1/4}
+    static constexpr int kCandidates = 15;  // qA, qC in {1, 1/2, 1/4, 0}, not both 0
     struct Shares {
         float vertex = 1, segment = 1;  // qA, qC
     };
     static Shares candidate(int j) {
-        constexpr float q[3] = {1.0f, 0.5f, 0.25f};
-        return Shares{q[j / 3], q[j % 3]};
+        constexpr float q[4] = {1.0f, 0.5f, 0.25f, 0.0f};
+        return Shares{q[j / 4], q[j % 4]};
+    }
+    // The shares a path is made with, given its strategies' densities p at q = 1: q, but 1 for
+    // a technique of share 0 that no other strategy can make the path with. A share of 0 is
+    // one technique left out of the MIS (qA = 0: C alone at medium vertices, as --connect
+    // product; qC = 0: A alone, as --connect density), unbiased only where the others cover
+    // its paths: not under the sun, which only A connects to (C and D have no point to aim at,
+    // B cannot hit a delta light), nor where the walk passes through the medium, where only C
+    // makes the path. (Both 0 is not a candidate: a point light would go unlit.)
+    static Shares madeWith(Shares q, const StrategyDensities& p) {
+        if (q.vertex <= 0 && !(p.b > 0 || p.c > 0 || p.d > 0)) q.vertex = 1;
+        if (q.segment <= 0 && !(p.a > 0 || p.b > 0 || p.d > 0)) q.segment = 1;
+        return q;
     }
 
     // A light connection's record in a learning pass (grey values: the mean over channels).

@@ -245,6 +245,40 @@ TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]
     CHECK(plan(*scene, single, 24, 18).dueling());
 }
 
+// The path tracer inside auto learns its connection shares from its last duel passes
+// (made with shares 1, 1 like its first ones): where it wins the duel, it renders with them
+// from the first pass after it; those passes alone teach it, not the pilot's probes nor
+// the bidirectional contender's passes.
+TEST_CASE("auto: the path tracer learns its connection shares in the duel", "[auto][allocation]") {
+    auto scene = loadTestScene("area_quad.gltf");
+    BdptOptions o = autoOptions(-1);
+    o.learnShares = true;
+    BdptIntegrator integrator(o);
+    const int end = AllocationPlanner::kWeightPasses + AllocationPlanner::kCollectPassesFull + 2 * AllocationDuel::kPasses;
+    Film film(40, 30);
+    RenderOptions r;
+    r.width = 40;
+    r.height = 30;
+    r.spp = end - 1;
+    render(*scene, integrator, r, film);
+    const AllocationPlanner& p = *integrator.planner();
+    INFO(p.report());
+    REQUIRE(p.dueling());  // (the test needs a scene where the path tracer duels)
+    REQUIRE(p.lastDecisionPass() == end - 1);
+    REQUIRE(integrator.connectionShares());
+    CHECK(integrator.connectionShares()->learning());  // one duel pass to go
+    for (int pass = 0; pass < end; ++pass)
+        CHECK(p.pathTracerDuelPass(pass, AllocationDuel::kPasses - ConnectionShares::kLearningPasses) ==
+              (pass >= end - ConnectionShares::kLearningPasses));
+    BdptIntegrator whole(o);
+    Film film2(40, 30);
+    r.spp = end;
+    render(*scene, whole, r, film2);
+    CHECK(whole.planner()->decided());
+    CHECK_FALSE(whole.connectionShares()->learning());
+    CHECK(whole.connectionShares()->report().find("learned from 4 passes") != std::string::npos);
+}
+
 // The image leaves out the pilot's and the duel loser's passes where they are noisier per
 // pass, or once the others are kLeftOutRatio times as many (with Sobol numbers): exactly
 // those sums, and not otherwise.

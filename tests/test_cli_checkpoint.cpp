@@ -215,9 +215,9 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
 }
 
 // Beside an area light in fog auto probes the path tracer (its distances by the light's solid
-// angle, allocation_planner.h), chooses it after the duel, and the path tracer then learns its
-// connection shares in passes 18–21 (connection_shares.h). Stopped in the pilot, inside and
-// after that learning, it resumes to the same bytes. (Before the planner's state kept whether
+// angle, allocation_planner.h), chooses it after the duel, and the path tracer learns its
+// connection shares in its last four duel passes, 14–17 (connection_shares.h). Stopped in the
+// pilot, inside and after that learning, it resumes to the same bytes. (Before the planner's state kept whether
 // it probes, such a checkpoint resumed to another choice and was refused as malformed.)
 TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the path tracer", "[cli][checkpoint][auto]") {
     TempDir dir;
@@ -227,7 +227,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the p
     REQUIRE(r.code == 0);
     REQUIRE(r.out.find("allocation: path tracer") != std::string::npos);
     CHECK(r.out.find("connection shares: at medium vertices") != std::string::npos);
-    checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"1", "19", "22"});
+    checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"1", "15", "19"});
 }
 
 // bdpt learns light tracing's share of one-scattering paths in its first four passes

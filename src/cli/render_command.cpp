@@ -726,8 +726,9 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
         // And the path tracer the passes that learn its connection shares (connection_shares.h).
-        // (auto's and bdpt's path tracer learn theirs once it renders for good: in the 4 passes
-        // after auto's pilot or duel, or from pass 0 with `--allocation "path tracer"`.)
+        // (auto's and bdpt's path tracer learn theirs in its last 4 duel passes, or the 4 passes
+        // after auto's pilot where there is no duel, or from pass 0 with `--allocation "path
+        // tracer"`.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
         const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
         plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses)

@@ -62,7 +62,11 @@ BdptIntegrator::~BdptIntegrator() = default;
 bool BdptIntegrator::sharesPassAt(int pass) const {
     if (!pathTracer_.sharesLearning()) return false;
     if (!planner_) return options_.allocation.pathTracer;
-    return planner_->decided() && planner_->allocationFor(pass).pathTracer;
+    if (planner_->decided()) return planner_->allocationFor(pass).pathTracer;
+    // The path tracer's last kLearningPasses duel passes (made with shares 1, 1 as its others
+    // are, so that the duel measures one estimator): where it wins, it renders with its
+    // shares from the first pass after the duel.
+    return planner_->pathTracerDuelPass(pass, AllocationDuel::kPasses - ConnectionShares::kLearningPasses);
 }
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {

@@ -147,6 +147,13 @@ public:
     // The duel's contenders (0: bidirectional, 1: the path tracer; candidate indices), and
     // once both rendered, each one's efficiency as the duel measured it.
     int duelist(int c) const { return duelists_[c]; }
+    // Whether pass `pass` is one of the path tracer's duel passes, the index-th of its
+    // kPasses or later.
+    bool pathTracerDuelPass(int pass, int fromIndex) const {
+        if (!dueling() || pilotChoice_ < 0 || pass < duelStart() || pass > lastDecisionPass()) return false;
+        const int k = pass - duelStart();
+        return candidates_[size_t(duelists_[k / AllocationDuel::kPasses])].pathTracer && k % AllocationDuel::kPasses >= fromIndex;
+    }
     double duelEfficiency(int c) const;
     // One line: the choice and its estimated efficiency relative to the pilot's; and a table
     // of every candidate's estimated relative variance, cost and efficiency.

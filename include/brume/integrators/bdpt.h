@@ -76,7 +76,8 @@ struct BdptOptions {
     bool volumeLights = true;
     // With --connect mis, the path tracer inside (auto's and --allocation's "path tracer")
     // learns how often to make its light connections in media (connection_shares.h), from
-    // its first passes once it renders for good (IntegratorSettings::learnShares).
+    // its last duel passes, or its first passes once it renders for good
+    // (IntegratorSettings::learnShares; sharesPassAt).
     bool learnShares = false;
     // efficiencyAware: the passes the render will take (0: not known, e.g. `--time`). In full
     // transport the duel is held only where at least as many passes follow it as it takes
@@ -150,9 +151,9 @@ private:
     int guidePasses() const { return options_.guiding ? pathTracer_.guide()->trainingPasses() : 0; }
     std::string saveOwnState() const;
     void loadOwnState(const std::string& state);
-    // Whether pass `pass` is one the path tracer inside learns its shares from: its
-    // allocation is the path tracer's for good (after the planner's choice) and they are
-    // still learnt.
+    // Whether pass `pass` is one the path tracer inside learns its shares from, while they are
+    // still learnt: its allocation is the path tracer's for good (after the planner's
+    // choice), or it is one of the path tracer's last duel passes.
     bool sharesPassAt(int pass) const;
 };
 

@@ -68,9 +68,9 @@ public:
         if (shares_) shares_->endPass(summary);
     }
     bool learning(int) const override { return (guide_ && guide_->learning()) || (shares_ && shares_->learning()); }
-    // Inside the efficiency-aware tracer the shares learn only from the passes its planner
-    // gives the path tracer for good (bdpt.cpp): the others, its pilot's probes and its duel
-    // passes, neither record nor count. Set between passes.
+    // Inside the efficiency-aware tracer the shares learn only from the path tracer's own
+    // passes (BdptIntegrator::sharesPassAt: its last duel passes, or its first passes once
+    // chosen): the pilot's probes neither record nor count. Set between passes.
     void pauseShares(bool paused) { sharesPaused_ = paused; }
     bool sharesLearning() const { return shares_ && shares_->learning(); }
     // The guide's training passes, once the guided ones outnumber them (path_guide.h).

@@ -14,6 +14,7 @@
 #include "brume/integrators/bdpt.h"
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/direct_light_tracing.h"
+#include "brume/integrators/sample_cost.h"
 #include "brume/render/renderer.h"
 #include "brume/scene/camera_importance.h"
 #include "support/block_z.h"
@@ -219,7 +220,7 @@ TEST_CASE("auto in single scattering duels the bidirectional tracer with light t
 // it holds no duel: the pilot's choice is final after the pilot. The same scene with the
 // passes not known (or enough of them) holds it; single scattering always does.
 TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]") {
-    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    auto scene = loadTestScene("single_near.gltf");
     auto planned = [&](int maxDepth, int passes) {
         BdptOptions o = autoOptions(maxDepth);
         o.plannedPasses = passes;
@@ -243,6 +244,37 @@ TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]
     CHECK(plan(*scene, enough, 24, 18).dueling());
     BdptIntegrator single(planned(1, 16));
     CHECK(plan(*scene, single, 24, 18).dueling());
+}
+
+// Where the path tracer is probed (beside an area light: its distances by the light's solid
+// angle), its cost is what its probe's own parts count (sample_cost.h), not the bidirectional
+// tracer's pt+ea scaled by a constant fitted elsewhere: the pilot's cost per sample of the
+// path tracer is within 10 % of what the path tracer's own passes count, rendered alone.
+TEST_CASE("auto: the path tracer's cost is counted from its probe", "[auto][allocation]") {
+    auto scene = loadTestScene("area_quad.gltf");
+    BdptIntegrator integrator(autoOptions(-1));
+    const AllocationPlanner& p = plan(*scene, integrator, 40, 30);
+    REQUIRE(p.pathTracerProbe());
+    int pt = -1, pilot = -1;
+    for (size_t j = 0; j < p.candidates().size(); ++j) {
+        if (p.candidates()[j].pathTracer) pt = int(j);
+        if (p.candidates()[j] == pilotAllocation()) pilot = int(j);
+    }
+    REQUIRE(pt >= 0);
+    REQUIRE(pilot >= 0);
+    BdptIntegrator alone(forcedOptions(-1, p.candidates()[size_t(pt)]));
+    Film film(40, 30);
+    RenderOptions r;
+    r.width = 40;
+    r.height = 30;
+    r.spp = 8;
+    const RenderStats st = render(*scene, alone, r, film);
+    const double counted = pathTracerCost(st.counts.pt) / double(st.samples);
+    // The pilot's cost is per pass of the pilot's (every pixel once): per sample, over W·H.
+    const double estimated = p.estimates()[size_t(pt)].cost / (40.0 * 30.0);
+    INFO("estimated " << estimated << " counted " << counted << " per sample; the pilot's "
+                      << p.estimates()[size_t(pilot)].cost / (40.0 * 30.0));
+    CHECK(estimated == Approx(counted).epsilon(0.10));
 }
 
 // The path tracer inside auto learns its connection shares from its last duel passes

@@ -214,14 +214,14 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
     }
 }
 
-// Beside an area light in fog auto probes the path tracer (its distances by the light's solid
+// Beside two area lights in fog auto probes the path tracer (its distances by the light's solid
 // angle, allocation_planner.h), chooses it after the duel, and the path tracer learns its
 // connection shares in its last four duel passes, 14–17 (connection_shares.h). Stopped in the
 // pilot, inside and after that learning, it resumes to the same bytes. (Before the planner's state kept whether
 // it probes, such a checkpoint resumed to another choice and was refused as malformed.)
 TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the path tracer", "[cli][checkpoint][auto]") {
     TempDir dir;
-    const Args common = {data("area_quad.gltf"), "--res", "40x30", "--spp", "40"};
+    const Args common = {data("area_rectangles_close.gltf"), "--res", "40x30", "--spp", "40"};
     const std::string ckpt = dir / "c.ckpt";
     Result r = run(common + Args{"-o", dir / "straight.pfm", "--stats"});
     REQUIRE(r.code == 0);

@@ -103,13 +103,18 @@ void AllocationPlanner::endPass(const PassSummary& s) {
 // counts: the parts a candidate drops left out, general connections scaled by their
 // probability.
 //
-// The path tracer: the cost of the bidirectional tracer's same strategies ("pt+ea") times
-// kPathTracerCost, measured on bench_fog_room and area_hall (160x120, unlimited depth:
-// pt:mis samples per second over those of `bdpt --allocation pt+ea`). (The duel counts
-// both contenders' costs from their own passes instead.)
+// The path tracer: where it is probed, what its probe's samples count (sample_cost.h: its own
+// parts, the solid-angle tables beside an emissive triangle among them; beside a panel in fog
+// pt+ea × kPathTracerCost put it at 0.23× the pilot's cost, where its parts count 0.42× and
+// its passes take 0.36×); elsewhere the cost of the bidirectional tracer's same strategies
+// ("pt+ea") times kPathTracerCost, measured on bench_fog_room and area_hall (160x120,
+// unlimited depth: pt:mis samples per second over those of `bdpt --allocation pt+ea`). (The
+// duel counts both contenders' costs from their own passes.)
 double AllocationPlanner::cost(const BdptAllocation& a) const {
     using namespace bdpt_cost;
     constexpr double kPathTracerCost = 0.57;
+    if (a.pathTracer && probe_ && counts_.pt.samples > 0)  // its probe's own parts, per sample
+        return pathTracerCost(counts_.pt) / double(counts_.pt.samples) * double(samples_) / std::max(1, collected_);
     if (a.pathTracer) {
         BdptAllocation same = a;
         same.pathTracer = false;
@@ -299,16 +304,27 @@ void AllocationPlanner::decideDuel() {
     // the bidirectional one's), but not the sampler; the duel sees the sampler, but as a
     // median over pixel groups of 8 passes not a tail those passes rarely reach (it rated the
     // path tracer 2× ahead there, where it was 4.5× behind at 4 s). So the duel overturns the
-    // pilot's choice only where it is decisive, by kOverturn.
-    constexpr double kOverturn = 2;
-    // With light tracing's learned share the pilot's estimate does not rate the bidirectional
-    // contender, and both contenders make every strategy (no tail is left to one of them
-    // alone): the duel decides by itself.
+    // pilot's choice where it is decisive (overturnMargin).
     const int pilots = pilotChoice_ == duelists_[1] ? 1 : 0;
     const double margin = efficiency[pilots] > 0 ? efficiency[1 - pilots] / efficiency[pilots] : HUGE_VAL;
-    chosen_ = duelists_[margin > (learnedShare_ ? 1.0 : kOverturn) ? 1 - pilots : pilots];
+    chosen_ = duelists_[margin > overturnMargin() ? 1 - pilots : pilots];
     if (!sawAll) chosen_ = duelists_[0];
     keepLeftOut();
+}
+
+// The duel's margin that overturns the pilot's choice: kOverturn where the pilot's estimate
+// rates its choice that far ahead of the other contender or more (heavy tails, decideDuel), its
+// own margin where it rates them closer: where the pilot cannot tell the two apart (beside a
+// panel light, with the path tracer's cost counted from its probe: within 1.2×, while the
+// sampler gave the path tracer 1.5×), the sampler decides. With light tracing's learned share
+// the pilot's estimate does not rate the bidirectional contender, and both contenders make
+// every strategy (no tail is left to one of them alone): the duel decides by itself (1).
+double AllocationPlanner::overturnMargin() const {
+    constexpr double kOverturn = 2;
+    if (learnedShare_) return 1.0;
+    const int pilots = pilotChoice_ == duelists_[1] ? 1 : 0;
+    const Estimate &mine = estimates_[size_t(duelists_[pilots])], &theirs = estimates_[size_t(duelists_[1 - pilots])];
+    return theirs.efficiency > 0 ? std::min(kOverturn, mine.efficiency / theirs.efficiency) : kOverturn;
 }
 
 std::string AllocationPlanner::duelistName(int c) const {
@@ -336,9 +352,11 @@ std::string AllocationPlanner::summaryLine() const {
         // Efficiency of each, from the duel: 1 / (V(4 passes) · cost).
         const int won = chosen_ == duelists_[0] ? 0 : 1;
         auto eff = [&](int c) { return duelEfficiency(c); };
+        char overturn[96];
+        std::snprintf(overturn, sizeof overturn, "%.2fx overturns the pilot's choice", overturnMargin());
         std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency (%s)%s",
                       duelistName(1 - won).c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
-                      learnedShare_ ? "the better wins" : "2x overturns the pilot's choice", won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
+                      learnedShare_ ? "the better wins" : overturn, won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
         out += buf;
     }
     return out;

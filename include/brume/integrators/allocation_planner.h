@@ -155,6 +155,8 @@ public:
         return candidates_[size_t(duelists_[k / AllocationDuel::kPasses])].pathTracer && k % AllocationDuel::kPasses >= fromIndex;
     }
     double duelEfficiency(int c) const;
+    // The duel's margin that overturns the pilot's choice (allocation_planner.cpp).
+    double overturnMargin() const;
     // One line: the choice and its estimated efficiency relative to the pilot's; and a table
     // of every candidate's estimated relative variance, cost and efficiency.
     std::string summaryLine() const;

@@ -561,8 +561,11 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
     if (planner) std::printf("%s", (a.stats ? planner->report() : planner->summaryLine() + "\n").c_str());
     if (a.stats && !group.distributed()) std::printf("%s", workPerSample(a.integrator, stats).c_str());  // (counters stay per rank)
     if (a.stats && guide) std::printf("%s", guide->report().text().c_str());
-    // (Inside auto and bdpt the shares learn only where the path tracer renders.)
-    if (a.stats && shares && (a.integrator == "pt" || !shares->learning())) std::printf("%s", shares->report().c_str());
+    // (Inside auto and bdpt the shares learn only where the path tracer renders: in auto's duel
+    // too, but they are shown only where it chose the path tracer.)
+    const bool sharesRender =
+        a.integrator == "pt" || (shares && !shares->learning() && (!planner || (planner->decided() && planner->chosen().pathTracer)));
+    if (a.stats && shares && sharesRender) std::printf("%s", shares->report().c_str());
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
                     "camera side %.4g, light tracing %.4g)\n",

@@ -48,11 +48,12 @@ void ConnectionShares::ensure(int width, int height) {
     moments_.assign(n * kCandidates, 0.0);
     sum_.assign(n, 0.0);
     vertexCalls_.assign(n, 0);
+    passingCalls_.assign(n, 0);
     sized_.store(true, std::memory_order_release);
 }
 
 void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n,
-                                 uint32_t mediumVertexCalls) {
+                                 uint32_t mediumVertexCalls, uint32_t passingSegmentCalls) {
     if (!sized_.load(std::memory_order_acquire)) ensure(width, height);  // (the first samples of a render)
     if (!std::isfinite(L)) return;
     // The rest of the sample: L without the records' estimates as weighted now (q = 1).
@@ -72,6 +73,7 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
         if (std::isfinite(moment)) m[j] += moment;
     }
     vertexCalls_[pixel] += mediumVertexCalls;
+    passingCalls_[pixel] += passingSegmentCalls;
 }
 
 void ConnectionShares::endPass(const PassSummary& summary) {
@@ -89,22 +91,25 @@ void ConnectionShares::endPass(const PassSummary& summary) {
 void ConnectionShares::decide(const PassSummary& summary) {
     const size_t n = size_t(summary.width) * size_t(summary.height);
     double variance[kCandidates] = {};
-    uint64_t vertexCalls = 0;
+    uint64_t vertexCalls = 0, passingCalls = 0;
     for (size_t p = 0; p < n; ++p) {
         const double mean = sum_[p] / passes_;
         const double w = 1.0 / (mean * mean + 0.01);
         for (int j = 0; j < kCandidates; ++j) variance[j] += w * (moments_[p * kCandidates + size_t(j)] / passes_ - mean * mean);
         vertexCalls += vertexCalls_[p];
+        passingCalls += passingCalls_[p];
     }
     // Cost of the learning passes' samples, less the connections a candidate would skip (on
-    // segments only those that trace: the others return at once, path_stats.h).
+    // segments only those that trace: the others return at once, path_stats.h; with qC = 0
+    // not those where the walk passes through, which C alone makes: madeWith).
     const double base = pathTracerCost(counts_.pt);
+    const double segmentCalls = double(counts_.pt.segmentTracingCalls);
     int best = 0;
     for (int j = 0; j < kCandidates; ++j) {
         const Shares q = candidate(j);
         variance_[j] = variance[j];
         cost_[j] = base - pt_cost::kVertexCall * (1.0 - q.vertex) * double(vertexCalls) -
-                   pt_cost::kSegmentCall * (1.0 - q.segment) * double(counts_.pt.segmentTracingCalls);
+                   pt_cost::kSegmentCall * (q.segment > 0 ? (1.0 - q.segment) * segmentCalls : segmentCalls - double(passingCalls));
         if (variance_[j] > 0 && cost_[j] > 0 && variance_[j] * cost_[j] < variance_[best] * cost_[best]) best = j;
     }
     shares_ = candidate(best);
@@ -112,6 +117,7 @@ void ConnectionShares::decide(const PassSummary& summary) {
     moments_ = {};
     sum_ = {};
     vertexCalls_ = {};
+    passingCalls_ = {};
     sized_.store(false, std::memory_order_release);
 }
 
@@ -134,7 +140,7 @@ std::string ConnectionShares::report() const {
 }
 
 std::string ConnectionShares::saveState() const {
-    std::string out = "CSH2";
+    std::string out = "CSH3";
     auto put = [&](const void* p, size_t bytes) { out.append(static_cast<const char*>(p), bytes); };
     const uint8_t decided = decided_ ? 1 : 0;
     put(&decided, 1);
@@ -145,6 +151,7 @@ std::string ConnectionShares::saveState() const {
     putVector(out, moments_);
     putVector(out, sum_);
     putVector(out, vertexCalls_);
+    putVector(out, passingCalls_);
     std::vector<uint64_t> counts;
     counts_.forEach([&](const uint64_t& v) { counts.push_back(v); });
     putVector(out, counts);
@@ -154,7 +161,7 @@ std::string ConnectionShares::saveState() const {
 }
 
 void ConnectionShares::loadState(const std::string& state) {
-    if (state.compare(0, 4, "CSH2") != 0) throw std::runtime_error("connection shares state is malformed");
+    if (state.compare(0, 4, "CSH3") != 0) throw std::runtime_error("connection shares state is malformed");
     StateReader r{state, 4};
     decided_ = r.get<uint8_t>() != 0;
     shares_ = r.get<Shares>();
@@ -165,6 +172,7 @@ void ConnectionShares::loadState(const std::string& state) {
     moments_ = r.getVector<double>(pixels * kCandidates);
     sum_ = r.getVector<double>(pixels);
     vertexCalls_ = r.getVector<uint32_t>(pixels);
+    passingCalls_ = r.getVector<uint32_t>(pixels);
     const std::vector<uint64_t> counts = r.getVector<uint64_t>(PathCounts::kCount);
     if (counts.size() != size_t(PathCounts::kCount)) throw std::runtime_error("connection shares state is malformed");
     size_t i = 0;
@@ -172,7 +180,8 @@ void ConnectionShares::loadState(const std::string& state) {
     for (double& v : variance_) v = r.get<double>();
     for (double& v : cost_) v = r.get<double>();
     if (r.at != state.size()) throw std::runtime_error("connection shares state has trailing bytes");
-    if (!decided_ && (moments_.size() != pixels * kCandidates || sum_.size() != pixels || vertexCalls_.size() != pixels))
+    if (!decided_ && (moments_.size() != pixels * kCandidates || sum_.size() != pixels || vertexCalls_.size() != pixels ||
+                       passingCalls_.size() != pixels))
         throw std::runtime_error("connection shares state is malformed");
     sized_.store(!decided_ && pixels > 0, std::memory_order_release);
 }

@@ -440,6 +440,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     const bool learningShares = shares_ && shares_->learning() && !sharesPaused_ && mode == ConnectMode::Mis;
     const ShareNotes notes{shares_ ? shares_->shares() : options_.shares, learningShares ? &shareRecords : nullptr};
     uint32_t mediumVertexCalls = 0;
+    uint32_t passingSegmentCalls = 0;  // segment calls that traced where the walk passes through
     // Emission of the emitter at `hit`, reached along `ray` from the last vertex (strategy B),
     // weighted against the light connections that could have made the same path.
     auto emitterWeight = [&](const SurfaceHit& hit, const Spectrum& Le) {
@@ -515,11 +516,15 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             const bool makeC = mode != ConnectMode::Mis || notes.q.segment >= 1 ||
                                (notes.q.segment <= 0 ? passing : sampler.get1D(eaDims + dim::kConnect, repeat) < notes.q.segment);
             if (nee && mode != ConnectMode::Density && depth + 1 <= maxDepth && makeC) {
-                const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls,
-                                      &stats.counts.pt.segmentTracingCalls);
-                L += counted(PathTracerTechnique::OnSegment,
-                             beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
-                                                      tables, passing, field, gd, stats, notes.scaled(beta)));
+                const uint64_t tracing = stats.counts.pt.segmentTracingCalls;
+                {
+                    const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls,
+                                          &stats.counts.pt.segmentTracingCalls);
+                    L += counted(PathTracerTechnique::OnSegment,
+                                 beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
+                                                          tables, passing, field, gd, stats, notes.scaled(beta)));
+                }
+                if (passing && stats.counts.pt.segmentTracingCalls != tracing) ++passingSegmentCalls;
             }
             if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
@@ -719,7 +724,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     }
     if (learningShares)
         shares_->addSample(width, height, pixel, double(L.x + L.y + L.z) / 3.0, shareRecords.data(), int(shareRecords.size()),
-                           mediumVertexCalls);
+                           mediumVertexCalls, passingSegmentCalls);
     ++stats.counts.pt.samples;
     techniques.addTo(stats.techniques);
     stats.counts.pt.walkRays += (stats.rays - rays0) - (stats.counts.pt.connectionRays() - connections0);

@@ -19,7 +19,8 @@
 // After them, V_j = Σ_p w_p·(M_j,p / n − m_p²), w_p = 1/(m_p² + 0.01) as bench weighs errors
 // (m_p: the pixel's mean over those passes), and the cost of a sample under j from the parts
 // the passes counted (sample_cost.h: the calls at medium vertices scaled by qA', on segments
-// by qC'); the candidate of least V_j·cost_j renders the rest. Sums per pixel, added in pixel
+// by qC', less the ones a share of 0 still makes where the walk passes through); the
+// candidate of least V_j·cost_j renders the rest. Sums per pixel, added in pixel
 // order: the same choice for any thread count, and kept in checkpoints.
 #pragma once
 #include <atomic>
@@ -69,9 +70,11 @@ public:
     // The shares pass `pass` renders with; learning until the choice is made.
     Shares shares() const { return shares_; }
     bool learning() const { return !decided_; }
-    // One learning sample at `pixel`: its value L (grey), its records and how many connections
-    // it made at medium vertices (their calls). Thread-safe for distinct pixels.
-    void addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n, uint32_t mediumVertexCalls);
+    // One learning sample at `pixel`: its value L (grey), its records, how many connections
+    // it made at medium vertices (their calls) and how many on segments that the walk passes
+    // through and that traced (made whatever qC: madeWith). Thread-safe for distinct pixels.
+    void addSample(int width, int height, uint32_t pixel, double L, const Record* records, int n, uint32_t mediumVertexCalls,
+                   uint32_t passingSegmentCalls = 0);
     void endPass(const PassSummary& summary);
     // The choice, for --stats: each candidate's estimated relative variance and cost.
     std::string report() const;
@@ -94,6 +97,7 @@ private:
     std::vector<double> moments_;  // kCandidates per pixel
     std::vector<double> sum_;
     std::vector<uint32_t> vertexCalls_;
+    std::vector<uint32_t> passingCalls_;
     PathCounts counts_;  // the learning passes' parts
     double variance_[kCandidates] = {}, cost_[kCandidates] = {};
 };

@@ -18,6 +18,7 @@ namespace {
 
 constexpr double kRelativeEpsilon = 1e-2;  // as brume bench's relative MSE
 constexpr int kBlur = 2;                   // the pixel weights' box filter radius
+constexpr double kCombinedOverstates = 2;  // more than M through the pilot's weights overstates (decide)
 
 }  // namespace
 
@@ -65,6 +66,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         height_ = s.height;
         sum_.assign(size_t(s.width) * size_t(s.height) * 3, 0.0);
         sumSq_ = sum_;
+        ownParts_.assign(size_t((s.width + 1) / 2) * size_t((s.height + 1) / 2) * 3 * candidates_.size(), 0.0f);
+        ownSquares_.clear();
         passes_ = 0;
     }
     if (sum_.size() != size_t(s.width) * size_t(s.height) * 3 || passes_ != s.pass) return;  // (not from pass 0 on)
@@ -149,6 +152,40 @@ double AllocationPlanner::duelCost(int c) const {
     return duel_.cost(c, candidates_[size_t(duelists_[c])].pathTracer);
 }
 
+// Σ over pixels and channels of w · E[g_own]², per candidate, for one pass over the whole
+// image (allocation_statistics.h): g_own the part of a pixel's value its own sample carries.
+// E[g]² from one sample would be its square, which is E[g²]; so a recording pixel's mean
+// part is multiplied by the mean of its (up to 8) recording neighbours', an independent
+// estimate of nearly the same mean wherever the image is smooth on the scale of 4 pixels.
+std::vector<double> AllocationPlanner::ownSquares() const {
+    const size_t nc = candidates_.size();
+    std::vector<double> q(nc, 0.0);
+    const int cw = (width_ + 1) / 2, ch = (height_ + 1) / 2;
+    if (ownParts_.size() != size_t(cw) * size_t(ch) * 3 * nc || collected_ == 0) return q;
+    const double passes = collected_;
+    auto part = [&](int cx, int cy, size_t j, int c) {
+        return double(ownParts_[(size_t(cy) * size_t(cw) + size_t(cx)) * 3 * nc + 3 * j + size_t(c)]) / passes;
+    };
+    for (int cy = 0; cy < ch; ++cy)
+        for (int cx = 0; cx < cw; ++cx) {
+            const float* w = weights_.data() + 3 * (size_t(2 * cy) * size_t(width_) + size_t(2 * cx));
+            for (size_t j = 0; j < nc; ++j)
+                for (int c = 0; c < 3; ++c) {
+                    double around = 0;
+                    int n = 0;
+                    for (int y = std::max(0, cy - 1); y <= std::min(ch - 1, cy + 1); ++y)
+                        for (int x = std::max(0, cx - 1); x <= std::min(cw - 1, cx + 1); ++x)
+                            if (x != cx || y != cy) {
+                                around += part(x, y, j, c);
+                                ++n;
+                            }
+                    if (n > 0) q[j] += double(w[c]) * part(cx, cy, j, c) * around / n;
+                }
+        }
+    for (double& v : q) v *= 4.0;  // (every second pixel in x and y recorded)
+    return q;
+}
+
 void AllocationPlanner::decide() {
     // The pilot's variance of one pass, measured: per pixel and channel, the unbiased sample
     // variance of its (independent) pilot passes, weighted.
@@ -159,30 +196,50 @@ void AllocationPlanner::decide() {
         pilotSecond += double(weights_[i]) * sumSq_[i] / n;
         pilotMean += double(weights_[i]) * sum_[i] / n;
     }
-    // Each candidate's, by the difference of second moments: V_j = V_pilot + M_j − M_pilot
-    // (the mean, and the covariances between path lengths that M leaves out, are the
-    // pilot's). Per pass over the whole image: every second pixel in x and y recorded (×4).
+    // Each candidate's, by the difference of second moments: V_j = V_pilot + (M + C − Q)_j −
+    // (M + C − Q)_pilot, Q = Σ w·E[g_own]² (allocation_statistics.h; the covariances
+    // between path lengths that M + C leaves out are taken as the pilot's). Per pass over the
+    // whole image: every second pixel in x and y recorded (×4). M two ways: from each
+    // candidate's own strategies' samples (unbiased, but where the candidate leans on a
+    // strategy whose rare large values the pilot leaves to others, a pilot that missed them
+    // rates it far too well: a tenth of its variance in a glass-focused beam), and through the
+    // pilot's weights (which sees those values where the other strategies find them, but
+    // reads the densities the weights use, not those the light connection samples with: beside
+    // a panel light it rates ea-only allocations 1.2–1.45× too noisy). The variance is the
+    // first, unless the second is more than kCombinedOverstates times that: then the first
+    // missed rare values, and the second is taken.
     const double scale = 4.0 / std::max(1, collected_);
-    const double pilotMoment = moments_.candidate[pilot_] * scale;
+    // (Summed once, when the pilot's passes are in; then only the sums are kept.)
+    if (!ownParts_.empty()) {
+        ownSquares_ = ownSquares();
+        ownParts_ = std::vector<float>();
+    }
+    if (ownSquares_.size() != candidates_.size()) ownSquares_.assign(candidates_.size(), 0.0);
+    const std::vector<double>& own = ownSquares_;
+    auto difference = [&](size_t j) {
+        const double alone = (moments_.candidate[j] - moments_.candidate[pilot_]) * scale;
+        const double combined = (moments_.combined[j] - moments_.combined[pilot_]) * scale;
+        const double q = own[j] - own[size_t(pilot_)];
+        const bool missed = pilotVariance + combined - q > kCombinedOverstates * (pilotVariance + alone - q);
+        return (missed ? combined : alone) - q;
+    };
     estimates_.assign(candidates_.size(), Estimate{});
     int best = pilot_;
     for (size_t j = 0; j < candidates_.size(); ++j) {
-        const double m = moments_.candidate[j] * scale;
         Estimate& e = estimates_[j];
         // (Kept above a hundredth of the pilot's where noise would make it negative.)
         // The path tracer: as "pt+ea" (the same strategies), or in coloured media and with
         // strategies of its own its probe, where that saw as much light as the pilot (header).
-        double difference = m - pilotMoment;
+        double d = difference(j);
         if (candidates_[j].pathTracer) {
             BdptAllocation same = candidates_[j];
             same.pathTracer = false;
             for (size_t k = 0; k < candidates_.size(); ++k)
-                if (candidates_[k] == same) difference = moments_.candidate[k] * scale - pilotMoment;
-            const bool probeSawAll = moments_.probeMean * scale >= 0.9 * pilotMean;
-            if (probe_ && std::isfinite(difference) && probeSawAll)
-                difference = moments_.probe * scale - pilotSecond;
+                if (candidates_[k] == same) d = difference(k);
+        const bool probeSawAll = moments_.probeMean * scale >= 0.9 * pilotMean;
+            if (probe_ && std::isfinite(d) && probeSawAll) d = moments_.probe * scale - pilotSecond;
         }
-        e.variance = std::isfinite(difference) ? std::max(pilotVariance + difference, 1e-2 * pilotVariance)
+        e.variance = std::isfinite(d) ? std::max(pilotVariance + d, 1e-2 * pilotVariance)
                                                : std::numeric_limits<double>::infinity();
         // With light tracing's learned share the pilot's camera walk passes through media at
         // its last scattering event, leaving them to the equi-angular light connection: an
@@ -194,8 +251,6 @@ void AllocationPlanner::decide() {
     }
     pilotChoice_ = best;
     pilotVariance_ = pilotVariance;
-    if (std::getenv("BRUME_DEBUG_PLANNER"))
-        std::fprintf(stderr, "planner: V pilot %g, M pilot %g, M[0] %g\n", pilotVariance, pilotMoment, moments_.candidate[0] * scale);
     startDuel();
     if (chosen_ >= 0) keepLeftOut();
 }
@@ -410,15 +465,15 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP5", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
+// State: "BAP6", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
 // scene before each pass, but loadState re-derives the choice before any pass, and without it
 // a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
-// for sum (f64), sumSq (f64), weights (f32); then the duel's (AllocationDuel::save); then i32
+// for sum (f64), sumSq (f64), weights (f32), ownParts (f32), ownSquares (f64); then the duel's (AllocationDuel::save); then i32
 // passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP5";
+    std::string out = "BAP6";
     putBytes(out, uint8_t(probe_ ? 1 : 0));
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
@@ -434,6 +489,8 @@ std::string AllocationPlanner::saveState() const {
     putVector(out, sum_);
     putVector(out, sumSq_);
     putVector(out, weights_);
+    putVector(out, ownParts_);
+    putVector(out, ownSquares_);
     duel_.save(out);
     putBytes(out, int32_t(leftOutPasses_));
     for (const std::vector<FixedSum>& v : leftOut_) putVector(out, v);
@@ -441,7 +498,7 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP5") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP6") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const uint8_t probe = r.get<uint8_t>();
     if (probe > 1) throw std::runtime_error("allocation state is malformed");
@@ -462,6 +519,11 @@ void AllocationPlanner::loadState(const std::string& state) {
     sum_ = r.getVector<double>(values);
     sumSq_ = r.getVector<double>(values);
     weights_ = r.getVector<float>(values);
+    const size_t parts = size_t((width + 1) / 2) * size_t((height + 1) / 2) * 3 * candidates_.size();
+    ownParts_ = r.getVector<float>(parts);
+    ownSquares_ = r.getVector<double>(candidates_.size());
+    if ((!ownParts_.empty() && ownParts_.size() != parts) || (!ownSquares_.empty() && ownSquares_.size() != candidates_.size()))
+        throw std::runtime_error("allocation state is malformed");
     duel_.load(r, values);
     const int leftOutPasses = r.get<int32_t>();
     std::vector<FixedSum> leftOut[3];

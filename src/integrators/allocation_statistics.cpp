@@ -43,19 +43,19 @@ namespace {
 // (below).
 struct DenominatorParts {
     double t1 = 0, eaL = 0, cam = 0, eaC = 0, gen = 0, ffL = 0, ffC = 0;
-    double total(const BdptAllocation& a) const {
-        const double lt = a.lightSubpaths && a.lightTracing ? 1.0 : 0.0, p = a.lightSubpaths ? a.generalConnection : 0.0;
+    double total(const BdptAllocation& a, MisHeuristic h) const {
+        const double lt = a.lightSubpaths && a.lightTracing ? 1.0 : 0.0, p = a.lightSubpaths ? misPower(h, a.generalConnection) : 0.0;
         const double only = a.equiAngularOnly ? 1.0 : 0.0;
         return t1 + (a.equiAngularLight ? eaL - only * ffL : 0.0) + lt * (cam + (a.equiAngularCamera ? eaC - only * ffC : 0.0)) +
                p * gen;
     }
 };
 
-// How often candidate a makes the record's strategy (and variant) per sample, over how often
-// the pilot made it: 0 where a leaves it out, a general connection's probability ratio.
-double countRatio(const WeightRecord& r, const BdptAllocation& a, const BdptAllocation& pilot) {
+// How often allocation a makes the record's strategy (and variant) per sample: 0 where it
+// leaves it out, a general connection's probability.
+double madeCount(const WeightRecord& r, const BdptAllocation& a) {
     const bool general = r.s >= 2 && r.t >= 2;
-    if (general) return a.lightSubpaths && pilot.generalConnection > 0 ? double(a.generalConnection) / double(pilot.generalConnection) : 0.0;
+    if (general) return a.lightSubpaths ? double(a.generalConnection) : 0.0;
     const bool camera = r.t == 1;
     if (camera && !(a.lightSubpaths && a.lightTracing)) return 0.0;
     if (r.s == 0) return 1.0;
@@ -66,10 +66,11 @@ double countRatio(const WeightRecord& r, const BdptAllocation& a, const BdptAllo
 
 }  // namespace
 
-// For the balance heuristic a path's denominator Σ_k n_k p_k / p_t is linear in the counts,
-// and every candidate's counts are 1 for the emitter hit and the free-flight light connection
-// and, for the rest, products of its switches (bdpt_allocation.h):
-//   T(n) = T_1 + eaLight·(T_ea,L − only·T_ff,L) + cam·(T_cam + eaCamera·(T_ea,C − only·T_ff,C)) + p·T_gen,
+// A path's MIS denominator T(n) = Σ_k (n_k p_k / p_t)^β (β = 1 balance, 2 power; the own
+// strategy's weight is n_t^β / T) is linear in the switches of an allocation: every
+// candidate's counts are 1 for the emitter hit and the free-flight light connection and, for
+// the rest, 0 or 1 by its switches (bdpt_allocation.h), but p for general connections:
+//   T(n) = T_1 + eaLight·(T_ea,L − only·T_ff,L) + cam·(T_cam + eaCamera·(T_ea,C − only·T_ff,C)) + p^β·T_gen,
 // cam = light tracing, only = equiAngularOnly, T_ff the free-flight variants' terms at the
 // vertices where the equi-angular one replaces them. So seven settings give every
 // candidate's: with everything else off, T_1; then each of the four parts on alone; then
@@ -78,26 +79,31 @@ double countRatio(const WeightRecord& r, const BdptAllocation& a, const BdptAllo
 void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* light, int nLight,
                        MisSettings pilot, const std::vector<BdptAllocation>& candidates,
                        const std::vector<WeightRecord>& records, const PixelWeights& weights, int ownX, int ownY,
-                       AllocationMoments& moments) {
-    double* sums = moments.candidate;
+                       AllocationMoments& moments, float* own) {
+    double* alone = moments.candidate;  // M + C, M from the candidate's own strategies' samples alone
+    double* combined = moments.combined;  // M + C, M through the pilot's weights
     if (records.empty()) return;
     constexpr int kParts = 7;
-    thread_local std::vector<double> u[kParts];
-    pilot.heuristic = MisHeuristic::Balance;
-    MisSettings basis[kParts];
-    for (int b = 0; b < kParts; ++b) {
-        basis[b] = pilot;
-        basis[b].generalConnection = b == 4 ? 1.0 : 0.0;
-        basis[b].cameraConnection = b == 2 || b == 3 || b == 6 ? 1.0 : 0.0;
-        basis[b].equiAngularLight = b == 1 || b == 5;
-        basis[b].equiAngularCamera = b == 3 || b == 6;
-        basis[b].equiAngularOnly = b >= 5;
-        perCounts(scene, camera, nCamera, light, nLight, basis[b], records, u[b]);
-    }
+    // The render's heuristic (β) for the weights; β' = 2β − 1 for M through the pilot's
+    // weights (below): Cube where the render's is the power heuristic.
+    const MisHeuristic h = pilot.heuristic, hm = h == MisHeuristic::Power ? MisHeuristic::Cube : MisHeuristic::Balance;
+    const int sets = hm == h ? 1 : 2;
+    thread_local std::vector<double> u[2][kParts];
+    for (int k = 0; k < sets; ++k)
+        for (int b = 0; b < kParts; ++b) {
+            MisSettings basis = pilot;
+            basis.heuristic = k == 0 ? h : hm;
+            basis.generalConnection = b == 4 ? 1.0 : 0.0;
+            basis.cameraConnection = b == 2 || b == 3 || b == 6 ? 1.0 : 0.0;
+            basis.equiAngularLight = b == 1 || b == 5;
+            basis.equiAngularCamera = b == 3 || b == 6;
+            basis.equiAngularOnly = b >= 5;
+            perCounts(scene, camera, nCamera, light, nLight, basis, records, u[k][b]);
+        }
     // The denominators T = 1/u of the seven settings (u: misWeight's perCount), as parts.
-    auto partsOf = [&](size_t i) {
+    auto partsOf = [&](int k, size_t i) {
         double T[kParts];
-        for (int b = 0; b < kParts; ++b) T[b] = std::isfinite(u[b][i]) && u[b][i] > 0 ? 1.0 / u[b][i] : 0.0;
+        for (int b = 0; b < kParts; ++b) T[b] = std::isfinite(u[k][b][i]) && u[k][b][i] > 0 ? 1.0 / u[k][b][i] : 0.0;
         DenominatorParts d;
         d.t1 = T[0];
         d.eaL = std::max(0.0, T[1] - T[0]);
@@ -115,9 +121,14 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
     in.equiAngularLight = pilot.equiAngularLight;
     in.equiAngularCamera = pilot.equiAngularCamera;
     in.equiAngularOnly = pilot.equiAngularOnly;
-    thread_local std::vector<DenominatorParts> parts;
+    // What candidate j would add to the pixel from record i, per unit of its unweighted value:
+    // its weight w' = n'^β / T', over how often the pilot made the strategy, n (a connection
+    // the pilot makes with probability p stands for one the candidate makes with p').
+    // Negative: no strategy of the candidate makes the path (it would be biased).
+    thread_local std::vector<double> factor;
     thread_local std::vector<size_t> order;
-    parts.resize(records.size());
+    const size_t nc = candidates.size();
+    factor.assign(records.size() * nc, 0.0);
     order.clear();
     for (size_t i = 0; i < records.size(); ++i) {
         const WeightRecord& r = records[i];
@@ -125,46 +136,64 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
         double v2 = 0;
         for (int c = 0; c < 3; ++c) v2 += double(w[c]) * double(r.value[c]) * double(r.value[c]);
         if (!(v2 > 0)) continue;
-        parts[i] = partsOf(i);
-        const double base = parts[i].total(in);
-        if (!(base > 0)) continue;  // (weight 0 in the pilot: no sample)
+        const DenominatorParts d = partsOf(0, i), dm = sets == 2 ? partsOf(1, i) : d;
+        const double n = madeCount(r, in), base = d.total(in, h);
+        if (!(n > 0) || !(base > 0)) continue;  // (weight 0 in the pilot: no sample)
         order.push_back(i);
-        // M: (f/p_t)² · u(pilot) · u(candidate), u = 1/T.
-        for (size_t j = 0; j < candidates.size(); ++j) {
-            const double tj = parts[i].total(candidates[j]);
-            sums[j] += tj > 0 ? v2 / (base * tj) : std::numeric_limits<double>::infinity();
+        // M (header). Combined: the pilot's weight n^β / T_pilot times G / (n p_t), which is
+        // v2 · n^(β−1) · T'_{2β−1} / (T'_β² · T_pilot). Alone: the candidate's contribution
+        // squared per sample it makes (n' of them, each n/n' times as likely in the pilot's
+        // sample), v2 · w'² / (n · n').
+        const double nb = h == MisHeuristic::Power ? n : 1.0;
+        for (size_t j = 0; j < nc; ++j) {
+            const double tj = d.total(candidates[j], h);
+            if (!(tj > 0)) {
+                alone[j] = combined[j] = std::numeric_limits<double>::infinity();
+                factor[i * nc + j] = -1.0;
+                continue;
+            }
+            combined[j] += v2 * nb * dm.total(candidates[j], hm) / (tj * tj * base);
+            const double nj = madeCount(r, candidates[j]);
+            if (nj == 0) continue;
+            const double wj = misPower(h, nj) / tj;
+            alone[j] += v2 * wj * wj / (n * nj);
+            factor[i * nc + j] = wj / n;
+            if (own && r.x < 0)
+                for (int c = 0; c < 3; ++c) own[3 * j + size_t(c)] += float(double(r.value[c]) * wj / n);
         }
     }
     // C: the products of the sample's contributions to one pixel, two by two, as each
     // candidate would weight them (header): (Σ_r e_r)² − Σ_r e_r² per pixel and channel,
-    // e_r = value · u_r(candidate) · n_r(candidate) / n_r(pilot).
+    // e_r = value · w'_r / n_r.
     auto pixel = [&](size_t i) {
         const WeightRecord& r = records[i];
         return r.x >= 0 ? std::make_pair(r.y, r.x) : std::make_pair(ownY, ownX);
     };
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return pixel(a) < pixel(b); });
     for (size_t g = 0; g < order.size();) {
-        size_t h = g + 1;
-        while (h < order.size() && pixel(order[h]) == pixel(order[g])) ++h;
-        if (h - g >= 2) {
+        size_t e = g + 1;
+        while (e < order.size() && pixel(order[e]) == pixel(order[g])) ++e;
+        if (e - g >= 2) {
             const float* w = weights.at(pixel(order[g]).second, pixel(order[g]).first);
-            for (size_t j = 0; j < candidates.size(); ++j) {
+            for (size_t j = 0; j < nc; ++j) {
                 double sum[3] = {0, 0, 0}, squares[3] = {0, 0, 0};
-                for (size_t q = g; q < h; ++q) {
+                for (size_t q = g; q < e; ++q) {
                     const WeightRecord& r = records[order[q]];
-                    const double tj = parts[order[q]].total(candidates[j]);
-                    const double n = countRatio(r, candidates[j], in);
-                    if (!(tj > 0) || n == 0) continue;
+                    const double f = factor[order[q] * nc + j];
+                    if (!(f > 0)) continue;
                     for (int c = 0; c < 3; ++c) {
-                        const double e = double(r.value[c]) * n / tj;
-                        sum[c] += e;
-                        squares[c] += e * e;
+                        const double v = double(r.value[c]) * f;
+                        sum[c] += v;
+                        squares[c] += v * v;
                     }
                 }
-                for (int c = 0; c < 3; ++c) sums[j] += double(w[c]) * (sum[c] * sum[c] - squares[c]);
+                for (int c = 0; c < 3; ++c) {
+                    alone[j] += double(w[c]) * (sum[c] * sum[c] - squares[c]);
+                    combined[j] += double(w[c]) * (sum[c] * sum[c] - squares[c]);
+                }
             }
         }
-        g = h;
+        g = e;
     }
 }
 

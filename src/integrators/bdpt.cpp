@@ -340,7 +340,7 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     if (collect) {
         const int ox = std::min(px, width - 1), oy = std::min(py, height - 1);
         accumulateMoments(scene, camera, nCamera, light, nLight, mis, planner_->candidates(), records, planner_->weights(),
-                          ox, oy, stats.moments);
+                          ox, oy, stats.moments, planner_->ownParts(ox, oy));
         // In coloured media and where the path tracer has strategies of its own, its probe:
         // one sample of its own, kept out of the image (allocation_planner.h).
         const TechniqueSums kept = stats.techniques;  // (the probe is not in the image)

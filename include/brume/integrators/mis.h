@@ -3,7 +3,9 @@
 
 namespace brume {
 
-enum class MisHeuristic { Balance, Power };
+// Cube (β = 3) weights nothing: the efficiency-aware tracer's statistics read the sums Σ_k
+// (n_k p_k)³ of a path through it (allocation_statistics.h).
+enum class MisHeuristic { Balance, Power, Cube };
 
 // Power heuristic with β = 2 for one sample from each of two strategies: pa²/(pa² + pb²).
 inline float powerHeuristic(float pa, float pb) {
@@ -11,8 +13,10 @@ inline float powerHeuristic(float pa, float pb) {
     return a + b > 0 ? a / (a + b) : 0.0f;
 }
 
-// r^β for a density ratio r: β = 2 (power) or 1 (balance).
-inline double misPower(MisHeuristic h, double r) { return h == MisHeuristic::Power ? r * r : r; }
-inline long double misPower(MisHeuristic h, long double r) { return h == MisHeuristic::Power ? r * r : r; }
+// r^β for a density ratio r: β = 2 (power), 1 (balance) or 3 (cube).
+inline double misPower(MisHeuristic h, double r) { return h == MisHeuristic::Power ? r * r : h == MisHeuristic::Balance ? r : r * r * r; }
+inline long double misPower(MisHeuristic h, long double r) {
+    return h == MisHeuristic::Power ? r * r : h == MisHeuristic::Balance ? r : r * r * r;
+}
 
 }  // namespace brume

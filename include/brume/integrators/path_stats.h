@@ -87,27 +87,35 @@ private:
 };
 
 // The efficiency-aware tracer's sums over its recording pixels (allocation_statistics.h): per
-// candidate allocation Σ w·F² (with the products of a sample's contributions to one pixel), and its probe of the path tracer, Σ w·L and Σ w·L².
+// candidate allocation Σ w·F² (with the products of a sample's contributions to one pixel),
+// its second moment two ways (from each candidate's own strategies' samples, and through the
+// pilot's weights), and the probe of the path tracer, Σ w·L and Σ w·L².
 struct AllocationMoments {
     static constexpr int kCandidates = 32;
     double candidate[kCandidates] = {};
+    double combined[kCandidates] = {};
     double probeMean = 0, probe = 0;
 
     template <class F>
     void forEach(F&& f) {
         for (double& v : candidate) f(v);
+        for (double& v : combined) f(v);
         f(probeMean);
         f(probe);
     }
     template <class F>
     void forEach(F&& f) const {
         for (const double& v : candidate) f(v);
+        for (const double& v : combined) f(v);
         f(probeMean);
         f(probe);
     }
-    static constexpr int kCount = kCandidates + 2;
+    static constexpr int kCount = 2 * kCandidates + 2;
     void add(const AllocationMoments& o) {
-        for (int j = 0; j < kCandidates; ++j) candidate[j] += o.candidate[j];
+        for (int j = 0; j < kCandidates; ++j) {
+            candidate[j] += o.candidate[j];
+            combined[j] += o.combined[j];
+        }
         probeMean += o.probeMean;
         probe += o.probe;
     }

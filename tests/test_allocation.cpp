@@ -246,6 +246,20 @@ TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]
     CHECK(plan(*scene, single, 24, 18).dueling());
 }
 
+// The duel's bidirectional contender has light subpaths: without them the bidirectional
+// tracer makes the path tracer's strategies ("pt+ea"), and a duel with it measures the path
+// tracer against itself. Under a window's sun in fog the pilot rates "pt+ea" the best
+// bidirectional allocation (seeds 1 and 2 at 48×48 before the rule: the duel met it).
+TEST_CASE("auto: the duel's bidirectional contender has light subpaths", "[auto][allocation]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    BdptIntegrator integrator(autoOptions(-1));
+    const AllocationPlanner& p = plan(*scene, integrator, 48, 48);
+    INFO(p.report());
+    REQUIRE(p.dueling());
+    CHECK(p.candidates()[size_t(p.duelist(0))].lightSubpaths);
+    CHECK(p.candidates()[size_t(p.duelist(1))].pathTracer);
+}
+
 // Where the path tracer is probed (beside an area light: its distances by the light's solid
 // angle), its cost is what its probe's own parts count (sample_cost.h), not the bidirectional
 // tracer's pt+ea scaled by a constant fitted elsewhere: the pilot's cost per sample of the

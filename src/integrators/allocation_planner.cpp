@@ -298,8 +298,14 @@ void AllocationPlanner::startDuel() {
     constexpr double kDuelRange = 16;
     duelists_[0] = duelists_[1] = -1;
     chosen_ = pilotChoice_;
+    // The bidirectional contender has light subpaths: the bidirectional tracer without them
+    // ("pt+ea", "pt ea-only", "pt") makes the path tracer's strategies at more cost, so a duel
+    // with it would measure the path tracer against itself (on a lamp in thin fog, where the
+    // estimate of the tracer without light subpaths came within 1.1× of the best with them,
+    // the duel met it and never saw light tracing, which the sampler put 1.3× ahead).
     int bidirectional = -1, pathTracer = -1;
     for (size_t j = 0; j < candidates_.size(); ++j) {
+        if (!candidates_[j].pathTracer && !candidates_[j].lightSubpaths) continue;
         int& best = candidates_[j].pathTracer ? pathTracer : bidirectional;
         if (best < 0 || estimates_[j].efficiency > estimates_[size_t(best)].efficiency) best = int(j);
     }
@@ -360,7 +366,7 @@ void AllocationPlanner::decideDuel() {
     // median over pixel groups of 8 passes not a tail those passes rarely reach (it rated the
     // path tracer 2× ahead there, where it was 4.5× behind at 4 s). So the duel overturns the
     // pilot's choice where it is decisive (overturnMargin).
-    const int pilots = pilotChoice_ == duelists_[1] ? 1 : 0;
+    const int pilots = pilotSide();
     const double margin = efficiency[pilots] > 0 ? efficiency[1 - pilots] / efficiency[pilots] : HUGE_VAL;
     chosen_ = duelists_[margin > overturnMargin() ? 1 - pilots : pilots];
     if (!sawAll) chosen_ = duelists_[0];
@@ -374,10 +380,15 @@ void AllocationPlanner::decideDuel() {
 // sampler gave the path tracer 1.5×), the sampler decides. With light tracing's learned share
 // the pilot's estimate does not rate the bidirectional contender, and both contenders make
 // every strategy (no tail is left to one of them alone): the duel decides by itself (1).
+// The contender on the pilot's side: the bidirectional one if the pilot chose it, else the
+// path tracer (the pilot's choice, or the bidirectional tracer without light subpaths, which
+// makes the path tracer's strategies).
+int AllocationPlanner::pilotSide() const { return pilotChoice_ == duelists_[0] ? 0 : 1; }
+
 double AllocationPlanner::overturnMargin() const {
     constexpr double kOverturn = 2;
     if (learnedShare_) return 1.0;
-    const int pilots = pilotChoice_ == duelists_[1] ? 1 : 0;
+    const int pilots = pilotSide();
     const Estimate &mine = estimates_[size_t(duelists_[pilots])], &theirs = estimates_[size_t(duelists_[1 - pilots])];
     return theirs.efficiency > 0 ? std::min(kOverturn, mine.efficiency / theirs.efficiency) : kOverturn;
 }

@@ -14,7 +14,8 @@
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays;
 //   passes 2–17   (4–19) the duel (allocation_duel.h), where the pilot rated the best
-//                 bidirectional allocation and the path tracer within 16× of each other:
+//                 bidirectional allocation with light subpaths and the path tracer within
+//                 16× of each other:
 //                 the two render 8 passes each, in turn, with the sampler asked for (each
 //                 from Sobol index 0: an aligned block), and the better at equal cost
 //                 (relative variance of 4 passes × the cost its own passes counted,
@@ -167,6 +168,7 @@ public:
     double duelEfficiency(int c) const;
     // The duel's margin that overturns the pilot's choice (allocation_planner.cpp).
     double overturnMargin() const;
+    int pilotSide() const;
     // One line: the choice and its estimated efficiency relative to the pilot's; and a table
     // of every candidate's estimated relative variance, cost and efficiency.
     std::string summaryLine() const;
@@ -202,7 +204,7 @@ private:
     double lightShare_ = 1.0;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)
-    int duelists_[2] = {-1, -1};    // the best bidirectional allocation and the path tracer
+    int duelists_[2] = {-1, -1};    // the best bidirectional allocation with light subpaths and the path tracer
     AllocationDuel duel_;
     // Exact sums of passes (3 per pixel): [0] the pilot's, [1] and [2] the duelists'; after
     // the choice [0] alone, what the image may leave out (keepLeftOut).

@@ -236,11 +236,10 @@ void AllocationPlanner::decide() {
             same.pathTracer = false;
             for (size_t k = 0; k < candidates_.size(); ++k)
                 if (candidates_[k] == same) d = difference(k);
-        const bool probeSawAll = moments_.probeMean * scale >= 0.9 * pilotMean;
+            const bool probeSawAll = moments_.probeMean * scale >= 0.9 * pilotMean;
             if (probe_ && std::isfinite(d) && probeSawAll) d = moments_.probe * scale - pilotSecond;
         }
-        e.variance = std::isfinite(d) ? std::max(pilotVariance + d, 1e-2 * pilotVariance)
-                                               : std::numeric_limits<double>::infinity();
+        e.variance = std::isfinite(d) ? std::max(pilotVariance + d, 1e-2 * pilotVariance) : std::numeric_limits<double>::infinity();
         // With light tracing's learned share the pilot's camera walk passes through media at
         // its last scattering event, leaving them to the equi-angular light connection: an
         // allocation without it is not rated.
@@ -373,6 +372,11 @@ void AllocationPlanner::decideDuel() {
     keepLeftOut();
 }
 
+// The contender on the pilot's side: the bidirectional one if the pilot chose it, else the
+// path tracer (the pilot's choice, or the bidirectional tracer without light subpaths, which
+// makes the path tracer's strategies).
+int AllocationPlanner::pilotSide() const { return pilotChoice_ == duelists_[0] ? 0 : 1; }
+
 // The duel's margin that overturns the pilot's choice: kOverturn where the pilot's estimate
 // rates its choice that far ahead of the other contender or more (heavy tails, decideDuel), its
 // own margin where it rates them closer: where the pilot cannot tell the two apart (beside a
@@ -380,10 +384,6 @@ void AllocationPlanner::decideDuel() {
 // sampler gave the path tracer 1.5×), the sampler decides. With light tracing's learned share
 // the pilot's estimate does not rate the bidirectional contender, and both contenders make
 // every strategy (no tail is left to one of them alone): the duel decides by itself (1).
-// The contender on the pilot's side: the bidirectional one if the pilot chose it, else the
-// path tracer (the pilot's choice, or the bidirectional tracer without light subpaths, which
-// makes the path tracer's strategies).
-int AllocationPlanner::pilotSide() const { return pilotChoice_ == duelists_[0] ? 0 : 1; }
 
 double AllocationPlanner::overturnMargin() const {
     constexpr double kOverturn = 2;

@@ -143,9 +143,11 @@ public:
     // they render, only by the thread that renders that pixel. Their squares' part of each
     // candidate's variance is estimated in decide (allocation_statistics.h), and then only
     // that is kept (at 1920×1080 they take 190 MB while the pilot records).
+    // (nullptr where the pilot is not recording.)
     float* ownParts(int x, int y) {
         const size_t cell = size_t(y / 2) * size_t((width_ + 1) / 2) + size_t(x / 2);
-        return ownParts_.data() + cell * 3 * candidates_.size();
+        const size_t at = cell * 3 * candidates_.size();
+        return x >= 0 && y >= 0 && x < width_ && y < height_ && at < ownParts_.size() ? ownParts_.data() + at : nullptr;
     }
     const std::vector<BdptAllocation>& candidates() const { return candidates_; }
 

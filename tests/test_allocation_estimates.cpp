@@ -5,10 +5,13 @@
 // first pilot's pixel weights. The estimate of one pilot (1 pass over a quarter of 48×48
 // pixels in full transport) is heavy tailed (one seed in five rated p=0 ea=LC 6.9× too
 // noisy), so the test holds the median over five pilot seeds of estimate / measured to
-// 1 ± 0.25. Measured at seeds 0–4: medians 1.06 (p=0 ea=LC), 1.09 (p=0 ea-only=LC), 1.03
-// (p=0.25 ea-only=LC), 1.11 (p=0.25 ea=C), 1.11 (pt+ea). Before each candidate's own share
-// of a pixel's squared mean was counted (ownParts), p=0.25 ea=C, which leaves more of the
-// pixel to light tracing, read 0.72 and pt+ea, which leaves it none, 1.27: both fail. Without
+// 1 ± 0.25. Measured at seeds 0–4: medians 0.86 (p=0 ea=LC), 0.88 (p=0 ea-only=LC), 0.97
+// (p=0.25 ea-only=LC), 1.00 (p=0.25 ea=C), 1.11 (pt+ea); beside the quad light 0.99
+// (p=0.25 ea=C), 0.98 (p=0 ea-only=LC), 1.23 (pt+ea). Without each candidate's own share of a
+// pixel's squared mean (ownParts), p=0.25 ea=C, which leaves more of the pixel to light
+// tracing, reads 0.70 on the point light and pt+ea, which leaves it none, 1.48 beside the quad
+// light: both fail. (The estimate before it, balance-heuristic moments through the pilot's
+// weights, read 0.72 and 1.27 on the point light.) Without
 // the products of a sample's contributions (C) the ea-only candidates were 1.6–1.9× too noisy
 // and the test fails.
 #include <catch2/catch.hpp>

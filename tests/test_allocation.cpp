@@ -325,41 +325,48 @@ TEST_CASE("auto: the path tracer learns its connection shares in the duel", "[au
     CHECK(whole.connectionShares()->report().find("learned from 4 passes") != std::string::npos);
 }
 
-// The image leaves out the pilot's and the duel loser's passes where they are noisier per
-// pass, or once the others are kLeftOutRatio times as many (with Sobol numbers): exactly
-// those sums, and not otherwise.
-TEST_CASE("auto's image leaves out its pilot and the duel's loser once they are few", "[auto]") {
+// After a duel the image leaves out the pilot's (where the path tracer or light tracing's
+// learned share won) and the loser's passes, whatever their share. Without one, it leaves out
+// the pilot's where they are noisier per pass, or once the others are kLeftOutRatio times as
+// many (with Sobol numbers). Exactly those sums, and not otherwise.
+TEST_CASE("auto's image leaves out the duel's loser, and its pilot once few", "[auto]") {
     auto scene = loadTestScene("single_near.gltf");
     const int W = 24, H = 16;
     for (SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Independent}) {
-        BdptIntegrator integrator(autoOptions(1));
-        Film film(W, H);
-        RenderOptions o;
-        o.width = W;
-        o.height = H;
-        o.sampler = kind;
-        int done = 0;
-        for (int spp : {kDecided, 59, 60, 70}) {
-            o.spp = spp - done;
-            render(*scene, integrator, o, film);
-            done = spp;
-            const Integrator::LeftOutPasses out = integrator.leftOut();
-            INFO(integrator.planner()->summaryLine() << "; " << spp << " passes, " << out.passes << " left out");
-            REQUIRE(integrator.planner()->decided());
-            REQUIRE(out.passes > 0);
-            const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, kind);
-            const int others = spp - out.passes;
-            const bool leaves = out.noise > 2.0 + double(out.passes) / others ||
-                                (kind == SamplerKind::Sobol && others >= kLeftOutRatio * out.passes);
-            CHECK((image == all) == !leaves);
-            if (!leaves) continue;
-            // image · (N − k) = all · N − (the left-out sums), to float rounding.
-            double worst = 0;
-            for (size_t i = 0; i < all.size(); ++i) {
-                const double expect = (double(all[i]) * spp - fromFixed((*out.sums)[i])) / (spp - out.passes);
-                worst = std::max(worst, std::abs(image[i] - expect) / (std::abs(expect) + 1e-3));
+        for (bool duel : {true, false}) {  // (without: full transport, a short render planned)
+            BdptOptions options = autoOptions(duel ? 1 : -1);
+            if (!duel) options.plannedPasses = 16;
+            BdptIntegrator integrator(options);
+            Film film(W, H);
+            RenderOptions o;
+            o.width = W;
+            o.height = H;
+            o.sampler = kind;
+            int done = 0;
+            for (int spp : {kDecided, 59, 60, 70}) {
+                o.spp = spp - done;
+                render(*scene, integrator, o, film);
+                done = spp;
+                const Integrator::LeftOutPasses out = integrator.leftOut();
+                INFO(integrator.planner()->summaryLine() << "; " << spp << " passes, " << out.passes << " left out");
+                REQUIRE(integrator.planner()->decided());
+                REQUIRE(integrator.planner()->dueling() == duel);
+                REQUIRE(out.passes > 0);
+                CHECK(out.always == duel);
+                const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, kind);
+                const int others = spp - out.passes;
+                const bool leaves = duel || out.noise > 2.0 + double(out.passes) / others ||
+                                    (kind == SamplerKind::Sobol && others >= kLeftOutRatio * out.passes);
+                CHECK((image == all) == !leaves);
+                if (!leaves) continue;
+                // image · (N − k) = all · N − (the left-out sums), to float rounding.
+                double worst = 0;
+                for (size_t i = 0; i < all.size(); ++i) {
+                    const double expect = (double(all[i]) * spp - fromFixed((*out.sums)[i])) / (spp - out.passes);
+                    worst = std::max(worst, std::abs(image[i] - expect) / (std::abs(expect) + 1e-3));
+                }
+                CHECK(worst < 1e-5);
             }
-            CHECK(worst < 1e-5);
         }
     }
 }

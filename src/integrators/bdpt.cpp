@@ -129,8 +129,7 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
     // c = 1; their noise against the others' is not measured).
     if (!planner_ && direct_ && direct_->passes() == DirectLightTracing::kPasses)
         return LeftOutPasses{direct_->passes(), &direct_->passSums(), 0.0};
-    if (!planner_ || planner_->leftOutPasses() == 0) return {};
-    return LeftOutPasses{planner_->leftOutPasses(), &planner_->leftOutSums(), planner_->leftOutNoise()};
+    return planner_ ? planner_->leftOut() : LeftOutPasses{};
 }
 
 // State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; where

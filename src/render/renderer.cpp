@@ -399,6 +399,7 @@ std::vector<float> finalImage(const Film& film, const Integrator& integrator, Sa
     if (out.passes <= 0 || !out.sums || others <= 0) return film.rgb();
     // Per pixel, with the passes it keeps without them (fewer where adaptive sampling stopped it).
     auto leaveOut = [&](int n) {
+        if (out.always) return true;
         const bool noisier = out.noise > 2.0 + double(out.passes) / n;
         const bool outnumbered = sampler == SamplerKind::Sobol && n >= kLeftOutRatio * out.passes;
         return noisier || outnumbered;

@@ -130,10 +130,9 @@ public:
     // with the path tracer's duel passes when the bidirectional one won, the pilot's stay) and
     // their exact sums as the film keeps them (renderer.h, finalImage).
     int leftOutPasses() const { return chosen_ >= 0 ? leftOutPasses_ : 0; }
-    // Their relative variance per pass over the chosen allocation's, from the duel (0 if
-    // there was none: unknown).
-    double leftOutNoise() const;
     const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
+    // Both for the image (Integrator::leftOut), to be left out always after a duel.
+    Integrator::LeftOutPasses leftOut() const;
     // Whether the pass that renders now is the pilot's allocation (with the learned share,
     // once decided: the bidirectional contender).
     bool pilotAllocationAt(int pass) const { return allocationFor(pass) == candidates_[size_t(pilot_)]; }

@@ -92,6 +92,8 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
 // The image of a render: the film's mean, or the mean without the passes the integrator
 // says the image may leave out (Integrator::leftOut: the efficiency-aware tracer's pilot and
 // its duel's loser), when leaving them out is the better estimate:
+//   - always, where the integrator says so (Integrator::LeftOutPasses::always: after auto's
+//     duel, allocation_planner.cpp leftOut);
 //   - when their variance per pass, v, exceeds the others' by more than 2 + k/n (k of them, n
 //     others): the mean of n passes of variance 1 and k of variance v has variance
 //     (n + k·v)/(n + k)², above 1/n exactly then (passes taken as independent);

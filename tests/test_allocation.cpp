@@ -246,6 +246,34 @@ TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]
     CHECK(plan(*scene, single, 24, 18).dueling());
 }
 
+// The second moments are summed in groups of recording pixels, and a candidate is not
+// credited with one group's spike (allocation_planner.cpp groupDifference). In forward-
+// scattering fog one firefly of the pilot's equi-angular camera connection, counted 4× as
+// every recording pixel is, made the pilot's moment exceed its measured variance several
+// times, and every candidate that weighs that connection less read a variance below zero:
+// rated at the floor, a hundredth of the pilot's, and chosen at 59–68× the pilot's
+// efficiency, beyond the duel's range. Here seed 11 did that at 48×36 (fails without the
+// groups: checked); twelve pilots, none at the floor.
+TEST_CASE("auto: one spike in the pilot's recording does not rate a candidate at the floor", "[auto][allocation]") {
+    auto scene = loadTestScene("single_forward.gltf");
+    for (uint64_t seed = 1; seed <= 12; ++seed) {
+        BdptIntegrator integrator(autoOptions(-1));
+        Film film(48, 36);
+        RenderOptions o;
+        o.width = 48;
+        o.height = 36;
+        o.spp = 2;  // (the pilot's passes)
+        o.seed = seed;
+        render(*scene, integrator, o, film);
+        const AllocationPlanner& p = *integrator.planner();
+        REQUIRE(p.estimates().size() == p.candidates().size());
+        const double pilot = p.estimates()[size_t(std::find(p.candidates().begin(), p.candidates().end(), pilotAllocation()) -
+                                                  p.candidates().begin())].variance;
+        INFO("seed " << seed << ": " << p.report());
+        for (const AllocationPlanner::Estimate& e : p.estimates()) CHECK(e.variance > 0.02 * pilot);
+    }
+}
+
 // The duel's bidirectional contender has light subpaths: without them the bidirectional
 // tracer makes the path tracer's strategies ("pt+ea"), and a duel with it measures the path
 // tracer against itself. Under a window's sun in fog the pilot rates "pt+ea" the best
@@ -325,16 +353,22 @@ TEST_CASE("auto: the path tracer learns its connection shares in the duel", "[au
     CHECK(whole.connectionShares()->report().find("learned from 4 passes") != std::string::npos);
 }
 
-// After a duel the image leaves out the pilot's (where the path tracer or light tracing's
-// learned share won) and the loser's passes, whatever their share. Without one, it leaves out
-// the pilot's where they are noisier per pass, or once the others are kLeftOutRatio times as
-// many (with Sobol numbers). Exactly those sums, and not otherwise.
-TEST_CASE("auto's image leaves out the duel's loser, and its pilot once few", "[auto]") {
+// After a duel the image leaves out the left-out passes (the loser's; the pilot's too where
+// the path tracer or light tracing's learned share won) whatever their share where they are
+// noisier per pass than the winner's. Otherwise it leaves them out where they are noisier
+// per pass by more than 2 + k/n, or once the others are kLeftOutRatio times as many (with
+// Sobol numbers). Exactly those sums, and not otherwise. Three renders of a point light:
+// in single scattering, where the path tracer wins the duel (its loser, the bidirectional
+// tracer, is less noisy per pass); in full transport, where the bidirectional tracer wins
+// (the path tracer's passes are noisier); and a short render planned, without a duel.
+TEST_CASE("auto's image leaves out the duel's loser where noisier, and its pilot once few", "[auto]") {
     auto scene = loadTestScene("single_near.gltf");
     const int W = 24, H = 16;
+    int noisier = 0, quieter = 0;
     for (SamplerKind kind : {SamplerKind::Sobol, SamplerKind::Independent}) {
-        for (bool duel : {true, false}) {  // (without: full transport, a short render planned)
-            BdptOptions options = autoOptions(duel ? 1 : -1);
+        for (int config : {0, 1, 2}) {
+            const bool duel = config < 2;
+            BdptOptions options = autoOptions(config == 0 ? 1 : -1);
             if (!duel) options.plannedPasses = 16;
             BdptIntegrator integrator(options);
             Film film(W, H);
@@ -352,10 +386,11 @@ TEST_CASE("auto's image leaves out the duel's loser, and its pilot once few", "[
                 REQUIRE(integrator.planner()->decided());
                 REQUIRE(integrator.planner()->dueling() == duel);
                 REQUIRE(out.passes > 0);
-                CHECK(out.always == duel);
+                CHECK(out.always == (duel && out.noise > 1));
+                if (duel) ++(out.always ? noisier : quieter);
                 const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, kind);
                 const int others = spp - out.passes;
-                const bool leaves = duel || out.noise > 2.0 + double(out.passes) / others ||
+                const bool leaves = out.always || out.noise > 2.0 + double(out.passes) / others ||
                                     (kind == SamplerKind::Sobol && others >= kLeftOutRatio * out.passes);
                 CHECK((image == all) == !leaves);
                 if (!leaves) continue;
@@ -369,6 +404,8 @@ TEST_CASE("auto's image leaves out the duel's loser, and its pilot once few", "[
             }
         }
     }
+    CHECK(noisier > 0);  // (both cases met)
+    CHECK(quieter > 0);
 }
 
 TEST_CASE("auto chooses the same and renders the same bits for any thread count", "[auto]") {

@@ -102,6 +102,29 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     if (++collected_ == collectPasses()) decide();
 }
 
+// M_j − M_pilot from the recording pixels' groups (AllocationMoments): the mean of the
+// groups' differences, or their median where that is higher. A spike in one sample of the
+// pilot that a candidate weighs less (one firefly of its equi-angular camera connection,
+// counted 4× as every recording pixel is) would otherwise credit that candidate with a
+// variance below zero: in forward-scattering fog, seed 81, every candidate with general
+// connections always on read −4× the pilot's variance, was rated at the floor (a hundredth
+// of the pilot's), 59× the pilot's efficiency, beyond the duel's range, and rendered at half
+// the efficiency of the fixed methods. A candidate is not credited with one group's spike;
+// it is still charged with a tail (where the mean is the higher).
+double AllocationPlanner::groupDifference(const double (&m)[AllocationMoments::kGroups][AllocationMoments::kCandidates],
+                                          size_t j) const {
+    constexpr int G = AllocationMoments::kGroups;
+    double d[G], mean = 0;
+    for (int g = 0; g < G; ++g) {
+        d[g] = (m[g][j] - m[g][size_t(pilot_)]) * G;
+        if (!std::isfinite(d[g])) return std::numeric_limits<double>::infinity();  // (a biased candidate)
+        mean += d[g] / G;
+    }
+    std::sort(d, d + G);
+    const double median = (d[(G - 1) / 2] + d[G / 2]) / 2;
+    return std::max(mean, median);
+}
+
 // The cost of one pass of allocation a (sample_cost.h's units and weights), from the pilot's
 // counts: the parts a candidate drops left out, general connections scaled by their
 // probability.
@@ -217,8 +240,8 @@ void AllocationPlanner::decide() {
     if (ownSquares_.size() != candidates_.size()) ownSquares_.assign(candidates_.size(), 0.0);
     const std::vector<double>& own = ownSquares_;
     auto difference = [&](size_t j) {
-        const double alone = (moments_.candidate[j] - moments_.candidate[pilot_]) * scale;
-        const double combined = (moments_.combined[j] - moments_.combined[pilot_]) * scale;
+        const double alone = groupDifference(moments_.candidate, j) * scale;
+        const double combined = groupDifference(moments_.combined, j) * scale;
         const double q = own[j] - own[size_t(pilot_)];
         const bool missed = pilotVariance + combined - q > kCombinedOverstates * (pilotVariance + alone - q);
         return (missed ? combined : alone) - q;
@@ -260,18 +283,32 @@ void AllocationPlanner::decide() {
 // learned share, which the pilot's passes (c = 1) do not.
 bool AllocationPlanner::pilotLeftOut() const { return !(dueling() && chosen_ == duelists_[0] && !learnedShare_); }
 
-// The image leaves them out whatever their share once a duel was held (renderer.h
-// finalImage): the loser is the worse estimator at equal cost, and its passes and the
-// pilot's (independent numbers) carry tails that 8 passes rarely show. Weighing them in by
-// the duel's variances instead (inverse-variance blending, the rate of the winner's mean
-// read from its batches) had 0.95× the relative MSE of leaving them out beside a panel light
-// and 1.18× in forward-scattering fog (against references, docs/results.md); the plain mean,
-// which the rule below kept while they were more than a fifth of the passes, 1.03× and 1.38×.
-// Without a duel (the pilot's passes alone) their noise is not known.
+// Their variance per pass over the winner's, from the duel's batches of one pass (the
+// pilot's passes: V_pilot each); 0 without a duel.
+double AllocationPlanner::leftOutNoise() const {
+    if (chosen_ < 0 || !dueling()) return 0.0;
+    const int won = chosen_ == duelists_[0] ? 0 : 1;
+    const double mine = duel_.variance(won, 0), loser = duel_.variance(1 - won, 0);
+    const double theirs = pilotLeftOut() ? (duelStart() * pilotVariance_ + AllocationDuel::kPasses * loser) /
+                                               (duelStart() + AllocationDuel::kPasses)
+                                         : loser;
+    return mine > 0 ? theirs / mine : 0.0;
+}
+
+// After a duel, passes noisier per pass than the winner's are left out whatever their share
+// (renderer.h finalImage): the path tracer's, where it lost, are cheaper and noisier, with
+// tails that its 8 passes rarely show. The plain mean, which the image kept while they were
+// more than a fifth of the passes and less than 2 + k/n times noisier, had 1.38× the
+// relative MSE of leaving them out in forward-scattering fog; weighing them by the duel's
+// variances (inverse-variance blending, the winner's rate read from its batches) 1.18× there
+// and 0.95× beside a panel light (against references, docs/results.md). Where the path tracer
+// won, the bidirectional tracer's passes and the pilot's are less noisy per pass, and leaving
+// them out cost 1.4–1.8× in the forward fog: they follow the rules for passes of unknown
+// worth.
 Integrator::LeftOutPasses AllocationPlanner::leftOut() const {
     if (leftOutPasses() == 0) return {};
-    Integrator::LeftOutPasses out{leftOutPasses_, &leftOut_[0]};
-    out.always = dueling();
+    Integrator::LeftOutPasses out{leftOutPasses_, &leftOut_[0], leftOutNoise()};
+    out.always = out.noise > 1;
     return out;
 }
 
@@ -477,11 +514,17 @@ std::string AllocationPlanner::report() const {
                           duelists_[c] == chosen_ ? "   chosen" : "");
             out += buf;
         }
+        if (decided()) {
+            std::snprintf(buf, sizeof buf, "  the image %s the %d passes of %s: %.3gx the winner's variance per pass\n",
+                          leftOutNoise() > 1 ? "leaves out" : "may keep", leftOutPasses(),
+                          pilotLeftOut() ? "the pilot and the duel's loser" : "the duel's loser", leftOutNoise());
+            out += buf;
+        }
     }
     return out;
 }
 
-// State: "BAP6", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
+// State: "BAP7", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
 // scene before each pass, but loadState re-derives the choice before any pass, and without it
 // a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
@@ -489,7 +532,7 @@ std::string AllocationPlanner::report() const {
 // passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP6";
+    std::string out = "BAP7";
     putBytes(out, uint8_t(probe_ ? 1 : 0));
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
@@ -514,7 +557,7 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP6") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP7") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const uint8_t probe = r.get<uint8_t>();
     if (probe > 1) throw std::runtime_error("allocation state is malformed");

@@ -80,8 +80,9 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
                        MisSettings pilot, const std::vector<BdptAllocation>& candidates,
                        const std::vector<WeightRecord>& records, const PixelWeights& weights, int ownX, int ownY,
                        AllocationMoments& moments, float* own) {
-    double* alone = moments.candidate;  // M + C, M from the candidate's own strategies' samples alone
-    double* combined = moments.combined;  // M + C, M through the pilot's weights
+    const int group = AllocationMoments::group(ownX, ownY);
+    double* alone = moments.candidate[group];  // M + C, M from the candidate's own strategies' samples alone
+    double* combined = moments.combined[group];  // M + C, M through the pilot's weights
     if (records.empty()) return;
     constexpr int kParts = 7;
     // The render's heuristic (β) for the weights; β' = 2β − 1 for M through the pilot's

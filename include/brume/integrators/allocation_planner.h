@@ -131,7 +131,10 @@ public:
     // their exact sums as the film keeps them (renderer.h, finalImage).
     int leftOutPasses() const { return chosen_ >= 0 ? leftOutPasses_ : 0; }
     const std::vector<FixedSum>& leftOutSums() const { return leftOut_[0]; }
-    // Both for the image (Integrator::leftOut), to be left out always after a duel.
+    // Their relative variance per pass over the chosen allocation's, from the duel (0 if
+    // there was none: unknown).
+    double leftOutNoise() const;
+    // All of it for the image (Integrator::leftOut): always left out where noisier per pass.
     Integrator::LeftOutPasses leftOut() const;
     // Whether the pass that renders now is the pilot's allocation (with the learned share,
     // once decided: the bidirectional contender).
@@ -193,6 +196,7 @@ private:
     void duelPass(const PassSummary& summary, const std::vector<float>& image);
     void decideDuel();
     void keepLeftOut();
+    double groupDifference(const double (&m)[AllocationMoments::kGroups][AllocationMoments::kCandidates], size_t j) const;
     double cost(const BdptAllocation& a) const;
     double duelCost(int c) const;
     std::string duelistName(int c) const;

@@ -68,7 +68,8 @@ struct PixelWeights {
     const float* at(int x, int y) const { return w + 3 * (size_t(y) * size_t(width) + size_t(x)); }
 };
 
-// Adds to moments.candidate[j] and moments.combined[j], for every candidate j, its M + C over
+// Adds to moments.candidate[g][j] and moments.combined[g][j] (g: the group of (ownX, ownY)), for
+// every candidate j, its M + C over
 // `records` (above; M alone and combined), each contribution weighted by w_c of the pixel it
 // lands in; and to own[3j + c], if given, the
 // candidate's weighted contributions to the sample's own pixel (ownX, ownY), channel c. The

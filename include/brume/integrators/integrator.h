@@ -73,7 +73,7 @@ public:
         int passes = 0;
         const std::vector<FixedSum>* sums = nullptr;
         double noise = 0;  // their variance per pass over the others' (0: not known)
-        bool always = false;  // left out whatever their share (the efficiency-aware tracer's duel)
+        bool always = false;  // left out whatever their share (measured noisier: auto's duel)
     };
     virtual LeftOutPasses leftOut() const { return {}; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}

@@ -89,33 +89,45 @@ private:
 // The efficiency-aware tracer's sums over its recording pixels (allocation_statistics.h): per
 // candidate allocation Σ w·F² (with the products of a sample's contributions to one pixel),
 // its second moment two ways (from each candidate's own strategies' samples, and through the
-// pilot's weights), and the probe of the path tracer, Σ w·L and Σ w·L².
+// pilot's weights), and the probe of the path tracer, Σ w·L and Σ w·L². The two moments are
+// summed apart in kGroups interleaved groups of recording pixels, so that one sample's spike
+// can be told from a tail (allocation_planner.cpp decide).
 struct AllocationMoments {
     static constexpr int kCandidates = 32;
-    double candidate[kCandidates] = {};
-    double combined[kCandidates] = {};
+    static constexpr int kGroups = 4;
+    double candidate[kGroups][kCandidates] = {};
+    double combined[kGroups][kCandidates] = {};
     double probeMean = 0, probe = 0;
+
+    // The group of recording pixel (x, y) (even x and y): the recording pixels of one group
+    // are 4 apart in x and y.
+    static int group(int x, int y) { return ((x >> 1) & 1) + 2 * ((y >> 1) & 1); }
 
     template <class F>
     void forEach(F&& f) {
-        for (double& v : candidate) f(v);
-        for (double& v : combined) f(v);
+        for (auto& row : candidate)
+            for (double& v : row) f(v);
+        for (auto& row : combined)
+            for (double& v : row) f(v);
         f(probeMean);
         f(probe);
     }
     template <class F>
     void forEach(F&& f) const {
-        for (const double& v : candidate) f(v);
-        for (const double& v : combined) f(v);
+        for (const auto& row : candidate)
+            for (const double& v : row) f(v);
+        for (const auto& row : combined)
+            for (const double& v : row) f(v);
         f(probeMean);
         f(probe);
     }
-    static constexpr int kCount = 2 * kCandidates + 2;
+    static constexpr int kCount = 2 * kGroups * kCandidates + 2;
     void add(const AllocationMoments& o) {
-        for (int j = 0; j < kCandidates; ++j) {
-            candidate[j] += o.candidate[j];
-            combined[j] += o.combined[j];
-        }
+        for (int g = 0; g < kGroups; ++g)
+            for (int j = 0; j < kCandidates; ++j) {
+                candidate[g][j] += o.candidate[g][j];
+                combined[g][j] += o.combined[g][j];
+            }
         probeMean += o.probeMean;
         probe += o.probe;
     }

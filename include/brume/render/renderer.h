@@ -93,7 +93,7 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
 // says the image may leave out (Integrator::leftOut: the efficiency-aware tracer's pilot and
 // its duel's loser), when leaving them out is the better estimate:
 //   - always, where the integrator says so (Integrator::LeftOutPasses::always: after auto's
-//     duel, allocation_planner.cpp leftOut);
+//     duel, where they are noisier per pass than the winner's, allocation_planner.cpp);
 //   - when their variance per pass, v, exceeds the others' by more than 2 + k/n (k of them, n
 //     others): the mean of n passes of variance 1 and k of variance v has variance
 //     (n + k·v)/(n + k)², above 1/n exactly then (passes taken as independent);

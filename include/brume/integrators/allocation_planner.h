@@ -196,7 +196,10 @@ private:
     void duelPass(const PassSummary& summary, const std::vector<float>& image);
     void decideDuel();
     void keepLeftOut();
-    double groupDifference(const double (&m)[AllocationMoments::kGroups][AllocationMoments::kCandidates], size_t j) const;
+    struct GroupDifference {
+        double mean, median;
+    };
+    GroupDifference groupDifference(const double (&m)[AllocationMoments::kGroups][AllocationMoments::kCandidates], size_t j) const;
     double cost(const BdptAllocation& a) const;
     double duelCost(int c) const;
     std::string duelistName(int c) const;

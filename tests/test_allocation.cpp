@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -244,6 +245,56 @@ TEST_CASE("auto: no duel in a short render of known length", "[auto][allocation]
     CHECK(plan(*scene, enough, 24, 18).dueling());
     BdptIntegrator single(planned(1, 16));
     CHECK(plan(*scene, single, 24, 18).dueling());
+}
+
+// Under a time budget the duel is held only if each contender's 8 passes would take at most a
+// tenth of it (allocation_planner.cpp startDuel), their time estimated from the pilot's first
+// pass. The budgets are multiples of one pass measured here, so the test holds on a slow
+// (sanitizer) build as on a fast one, or under load: 16 passes' worth (the pilot's two
+// passes take about 3; a contender's 8 passes were estimated at 5.2: a tenth of 52 passes'
+// worth, so the duel is skipped below 52) and 2000. Each render stops after the pilot's
+// choice.
+TEST_CASE("auto: under a time budget, no duel whose passes would take over a tenth of it", "[auto][allocation]") {
+    auto scene = loadTestScene("single_near.gltf");
+    const int W = 24, H = 18;
+    double onePass = 1e30;
+    for (int i = 0; i < 3; ++i) {
+        BdptIntegrator integrator(autoOptions(-1));
+        Film film(W, H);
+        RenderOptions o;
+        o.width = W;
+        o.height = H;
+        o.spp = 1;
+        onePass = std::min(onePass, render(*scene, integrator, o, film).seconds);
+    }
+    // The render's passes (stopped once the pilot chose).
+    auto pilotUnder = [&](BdptIntegrator& integrator, double budget) {
+        Film film(W, H);
+        RenderOptions o;
+        o.width = W;
+        o.height = H;
+        o.timeBudget = budget;
+        std::atomic<bool> stop{false};
+        RenderControl control;
+        control.cancel = &stop;
+        control.afterPass = [&](const Film& f, const RenderStats&) {
+            if (f.passes() > integrator.planner()->decisionPass()) stop = true;
+        };
+        render(*scene, integrator, o, film, control);
+        return film.passes();
+    };
+    BdptIntegrator brief(autoOptions(-1));
+    const int briefPasses = pilotUnder(brief, 16 * onePass);
+    const AllocationPlanner& b = *brief.planner();
+    INFO("one pass " << onePass << " s; 16 passes' budget, " << briefPasses << " passes: " << b.report());
+    REQUIRE(briefPasses > b.decisionPass());  // (the pilot finished within the budget)
+    CHECK_FALSE(b.dueling());
+    CHECK(b.decided());
+    CHECK(b.summaryLine().find("no duel") != std::string::npos);
+    BdptIntegrator ample(autoOptions(-1));
+    pilotUnder(ample, 2000 * onePass);
+    INFO("2000 passes' budget: " << ample.planner()->report());
+    CHECK(ample.planner()->dueling());
 }
 
 // The second moments are summed in groups of recording pixels, and a candidate is not

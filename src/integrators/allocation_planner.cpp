@@ -69,6 +69,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         ownParts_.assign(size_t((s.width + 1) / 2) * size_t((s.height + 1) / 2) * 3 * candidates_.size(), 0.0f);
         ownSquares_.clear();
         passes_ = 0;
+        firstPassSeconds_ = s.seconds;
+        timeBudget_ = s.timeBudget;
     }
     if (sum_.size() != size_t(s.width) * size_t(s.height) * 3 || passes_ != s.pass) return;  // (not from pass 0 on)
     std::vector<float> image;
@@ -371,11 +373,25 @@ void AllocationPlanner::startDuel() {
     // instead of 8 + 6 of the two contenders, the choice left undecided).
     if (plannedPasses_ > 0 && plannedPasses_ < lastDecisionPass() + 1 + 2 * AllocationDuel::kPasses) return;
     const double b = estimates_[size_t(bidirectional)].efficiency, p = estimates_[size_t(pathTracer)].efficiency;
-    if (b > 0 && p > 0 && std::max(b, p) <= kDuelRange * std::min(b, p)) {
-        duelists_[0] = bidirectional;
-        duelists_[1] = pathTracer;
-        chosen_ = -1;
+    if (!(b > 0 && p > 0 && std::max(b, p) <= kDuelRange * std::min(b, p))) return;
+    // Under a time budget the duel's cost is its loser's passes (left out of the image, or kept
+    // though dearer per unit of variance), and it pays only where it overturns the pilot's
+    // choice, by 2×. It is held only if each contender's passes would take at most kDuelShare
+    // of the budget (as much as the pilot may take at 4 s, docs/mis.md), their time
+    // estimated from the pilot's first pass (which records nothing) × the estimated cost
+    // relative to the pilot's. Measured at 4 s on the six validation scenes (docs/results.md):
+    // the duel never overturned the pilot's choice in 24 renders, its loser's passes took
+    // 9–20 % of the budget, and without it the default was 1.09× as efficient (side panel
+    // 1.26×, forward fog 0.93×).
+    if (timeBudget_ > 0 && firstPassSeconds_ > 0) {
+        const double pilotCost = estimates_[size_t(pilot_)].cost;
+        const double dearer = std::max(estimates_[size_t(bidirectional)].cost, estimates_[size_t(pathTracer)].cost);
+        duelSeconds_ = AllocationDuel::kPasses * firstPassSeconds_ * (pilotCost > 0 ? dearer / pilotCost : 1.0);
+        if (duelSeconds_ > kDuelShare * timeBudget_) return;
     }
+    duelists_[0] = bidirectional;
+    duelists_[1] = pathTracer;
+    chosen_ = -1;
 }
 
 void AllocationPlanner::duelPass(const PassSummary& s, const std::vector<float>& image) {
@@ -470,6 +486,10 @@ std::string AllocationPlanner::summaryLine() const {
         std::snprintf(buf, sizeof buf, "; in a duel with the render's sampler against %s: %.2fx its efficiency (%s)%s",
                       duelistName(1 - won).c_str(), eff(1 - won) > 0 ? eff(won) / eff(1 - won) : 0.0,
                       learnedShare_ ? "the better wins" : overturn, won == 0 && duel_.mean(1) < 0.9 * duel_.mean(0) ? ", which saw too little light" : "");
+        out += buf;
+    } else if (duelSeconds_ > kDuelShare * timeBudget_ && timeBudget_ > 0) {
+        std::snprintf(buf, sizeof buf, "; no duel: a contender's %d passes would take about %.2f s, over %.0f%% of the %.3g-s budget",
+                      AllocationDuel::kPasses, duelSeconds_, 100 * kDuelShare, timeBudget_);
         out += buf;
     }
     return out;

@@ -122,6 +122,7 @@ public:
     // names the pixels that take part, `activeCount` of them.
     void startPass(int pass, const std::vector<uint8_t>* active, int activeCount) {
         integrator_.beginPass(scene_, pass);
+        passStart_ = Clock::now();
         std::lock_guard<std::mutex> lock(mutex_);
         active_ = active;
         activeCount_ = activeCount;
@@ -148,6 +149,8 @@ public:
         PassSummary summary;
         summary.pass = pass_;
         summary.complete = complete;
+        summary.seconds = secondsSince(passStart_);
+        summary.timeBudget = options_.timeBudget;
         if (complete) {
             const int width = options_.width;
             for (int y = 0; y < options_.height; ++y)
@@ -283,6 +286,7 @@ private:
     int pass_ = 0;
     SamplerKind passSampler_ = SamplerKind::Sobol;  // Integrator::samplerFor the pass in flight
     uint64_t passIndex_ = 0;                        // and its sequenceIndexFor
+    Clock::time_point passStart_;
     int running_ = 0;          // workers still in the current pass
     bool quit_ = false;
     std::exception_ptr error_;

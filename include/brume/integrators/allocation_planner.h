@@ -210,6 +210,11 @@ private:
     bool probe_ = false;
     bool learnedShare_ = false;
     int plannedPasses_ = 0;
+    // Under a time budget (PassSummary): the pilot's first pass's seconds, the budget, and the
+    // duel's estimated seconds per contender (startDuel; not in the saved state: checkpoints
+    // and MPI ranks count passes, with no budget here).
+    static constexpr double kDuelShare = 0.1;
+    double firstPassSeconds_ = 0, timeBudget_ = 0, duelSeconds_ = 0;
     double lightShare_ = 1.0;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)

@@ -27,6 +27,10 @@ struct PassSummary {
     const Spectrum* radiance = nullptr;
     const SplatList* splats = nullptr;
     int splatLists = 0;
+    // Wall time: the seconds the pass took, and the render's time budget (0: none, as when the
+    // passes are counted or one MPI rank renders them one by one). For choices that a time
+    // budget makes depend on the machine's speed anyway (AllocationPlanner::startDuel).
+    double seconds = 0, timeBudget = 0;
 };
 
 // Adds a complete pass's image to exact sums (3 per pixel) as the film adds it: each sample

@@ -27,7 +27,9 @@
 //                 path tracer, 3.9× the bidirectional tracer, at 64 spp on one lamp in fog);
 //                 the duel measures it;
 //                 In full transport a render whose passes are known (--spp) and leave
-//                 fewer than 16 after the duel holds none: the pilot's choice stands;
+//                 fewer than 16 after the duel holds none: the pilot's choice stands; so
+//                 does one under a time budget where a contender's 8 passes would take
+//                 over a tenth of it (startDuel);
 //   then          the chosen allocation, for good, with the sampler asked for, continuing
 //                 its own sequence (sequenceIndex).
 // In single scattering (learnedShare) the bidirectional tracer also learns light tracing's

@@ -106,7 +106,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
 
 // M_j − M_pilot from the recording pixels' groups (AllocationMoments): the mean of the
 // groups' differences, and their median. The caller takes the mean, unless it reads a variance
-// below zero: then one group's spike is in it, and the median is taken where higher. A spike
+// below zero: then a few groups' spikes are in it (sixteen groups: with four, two fireflies in
+// two groups put the median below zero too), and the median is taken where higher. A spike
 // in one sample of the pilot that a candidate weighs less (one firefly of its equi-angular
 // camera connection, counted 4× as every recording pixel is) would otherwise credit that
 // candidate with a variance below zero: in forward-scattering fog, seed 81, every candidate
@@ -549,7 +550,7 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP7", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
+// State: "BAP8", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
 // scene before each pass, but loadState re-derives the choice before any pass, and without it
 // a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
@@ -557,7 +558,7 @@ std::string AllocationPlanner::report() const {
 // passes left out and (u64 n, n × i128) for each of the three left-out sums.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP7";
+    std::string out = "BAP8";
     putBytes(out, uint8_t(probe_ ? 1 : 0));
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
@@ -582,7 +583,7 @@ std::string AllocationPlanner::saveState() const {
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP7") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP8") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const uint8_t probe = r.get<uint8_t>();
     if (probe > 1) throw std::runtime_error("allocation state is malformed");

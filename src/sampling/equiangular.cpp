@@ -1,5 +1,6 @@
 #include "brume/sampling/equiangular.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "brume/math/fast_atan.h"
@@ -29,13 +30,28 @@ float sampleEquiAngular(const EquiAngular& ea, float u) {
     double t;
     if (ea.uniform) {
         t = ea.a + double(u) * (ea.b - ea.a);
-    } else if (ea.phase.alpha < 1 && u >= ea.phase.alpha) {
-        // The phase part, with the rest of the number (one number picks the part and samples it).
-        const double xi = (double(u) - ea.phase.alpha) / (1.0 - ea.phase.alpha);
-        t = ea.delta + offsetAt(sampleHgAnglePhase(ea.phase, xi), ea.D);
+    } else if (ea.phase.alpha < 1) {
+        // One number picks the part and, rescaled, samples it: the uniform angle forwards
+        // along the ray for u < α, then the phase part backwards, so that t runs from a to b
+        // and back to a as u runs over [0, 1), with no jump at α. A map that ran both parts
+        // forwards jumped from b back to a there, which costs what a stratified u gives: in fog
+        // at g = 0.1 round a point light (single scattering, 256 spp) Owen-scrambled Sobol
+        // numbers gave plain equi-angular 560× and that product sampler 73×, 6× the error at
+        // nearly the same density; this one has 0.9× plain equi-angular's error there
+        // (docs/results.md). (Inverting the mixture's cdf, one monotone map, did as well at
+        // g = 0.1 and cost 1.26× the time of a forward-fog render at g = 0.9 in Newton steps.)
+        const double alpha = ea.phase.alpha;
+        if (u < alpha) {
+            const double v = double(u) / alpha;
+            t = ea.delta + ea.D * std::tan((1.0 - v) * ea.thetaA + v * ea.thetaB);
+        } else {
+            // Back along the ray: t falls from b to a as u rises from α (S falls; for g < 0 it
+            // rises). Not at the far end itself: on an unbounded ray that is t = ∞.
+            const double xi = std::max((double(u) - alpha) / (1.0 - alpha), 0x1p-25);
+            t = ea.delta + offsetAt(sampleHgAnglePhase(ea.phase, ea.phase.mirror ? xi : 1.0 - xi), ea.D);
+        }
     } else {
-        const double v = ea.phase.alpha < 1 ? double(u) / ea.phase.alpha : double(u);
-        double theta = (1.0 - v) * ea.thetaA + v * ea.thetaB;
+        double theta = (1.0 - double(u)) * ea.thetaA + double(u) * ea.thetaB;
         t = ea.delta + ea.D * std::tan(theta);
     }
     return float(std::min(std::max(t, ea.a), ea.b));

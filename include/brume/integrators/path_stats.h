@@ -94,14 +94,14 @@ private:
 // can be told from a tail (allocation_planner.cpp decide).
 struct AllocationMoments {
     static constexpr int kCandidates = 32;
-    static constexpr int kGroups = 4;
+    static constexpr int kGroups = 16;
     double candidate[kGroups][kCandidates] = {};
     double combined[kGroups][kCandidates] = {};
     double probeMean = 0, probe = 0;
 
     // The group of recording pixel (x, y) (even x and y): the recording pixels of one group
-    // are 4 apart in x and y.
-    static int group(int x, int y) { return ((x >> 1) & 1) + 2 * ((y >> 1) & 1); }
+    // are 8 apart in x and y.
+    static int group(int x, int y) { return ((x >> 1) & 3) + 4 * ((y >> 1) & 3); }
 
     template <class F>
     void forEach(F&& f) {

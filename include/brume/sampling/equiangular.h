@@ -11,8 +11,10 @@
 //
 // Product sampling (equi-angular × phase): with a Henyey–Greenstein g ≠ 0, the angle is drawn
 // from a mixture of the uniform angle above and the phase part of hg_angle.h (the phase at
-// x(t) between d and the direction to c, which is a function of the angle alone); the density
-// stays exact: pdf(t) = (α/(θb − θa) + (1 − α)·q(θ(t))) · D/(D² + (t − Δ)²). g = 0 is the plain
+// x(t) between d and the direction to c, which is a function of the angle alone): one number
+// picks the part and, rescaled, samples it, the uniform part forwards along the ray and the
+// phase part backwards, so that the map from ξ to t has no jump (equiangular.cpp). The density
+// is exact: pdf(t) = (α/(θb − θa) + (1 − α)·q(θ(t))) · D/(D² + (t − Δ)²). g = 0 is the plain
 // sampler, and costs nothing more.
 #pragma once
 #include "brume/math/vec3.h"

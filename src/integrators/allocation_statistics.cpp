@@ -12,13 +12,32 @@ namespace brume {
 
 namespace {
 
+// The reverse densities a record's connection sets at the four vertices next to it
+// (connectionReverseDensities). They read the film, the guide and where the camera walk passes
+// through media, which the fourteen settings below share: computed under the first, reused
+// under the rest (the same bits; 13 of 14 such calls were a fifth of a recording pass).
+struct ReverseDensities {
+    Channels at[4];
+};
+
+// The vertices whose pdfRev a connection (s, t) sets, in connectionReverseDensities' order.
+void touchedBy(PathVertex* camera, PathVertex* lightPath, int s, int t, PathVertex* out[4]) {
+    out[0] = &camera[t - 1];
+    out[1] = t >= 2 ? &camera[t - 2] : nullptr;
+    out[2] = s >= 1 ? &lightPath[s - 1] : nullptr;
+    out[3] = s >= 2 ? &lightPath[s - 2] : nullptr;
+}
+
 // u for every record under settings `st`: the subpaths' sums recomputed, then each record's
-// weight with its own vertices in place.
+// weight with its own vertices in place. `reverse` holds each record's reverse densities:
+// computed where `computeReverse`, else read.
 void perCounts(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* light, int nLight, MisSettings st,
-               const std::vector<WeightRecord>& records, std::vector<double>& u) {
+               const std::vector<WeightRecord>& records, std::vector<double>& u, std::vector<ReverseDensities>& reverse,
+               bool computeReverse) {
     misPrefixes(scene, camera, nCamera, true, st);
     misPrefixes(scene, light, nLight, false, st);
     u.resize(records.size());
+    if (computeReverse) reverse.resize(records.size());
     for (size_t i = 0; i < records.size(); ++i) {
         const WeightRecord& r = records[i];
         PathVertex* slot = r.moved ? (r.t >= 2 ? &camera[r.t - 1] : &light[r.s - 1]) : nullptr;
@@ -28,9 +47,25 @@ void perCounts(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* 
             std::memcpy(static_cast<void*>(slot), static_cast<const void*>(&r.vertex), sizeof(PathVertex));
         }
         PathVertex* lightPath = r.hasLightVertex ? const_cast<PathVertex*>(&r.lightVertex) : light;
+        // As strategyWeight: the connection's reverse densities in place, put back after.
+        PathVertex* touched[4];
+        touchedBy(camera, lightPath, r.s, r.t, touched);
+        Channels before[4];
+        for (int k = 0; k < 4; ++k)
+            if (touched[k]) before[k] = touched[k]->pdfRev;
+        if (computeReverse) {
+            connectionReverseDensities(scene, lightPath, r.s, camera, r.t, r.join, st);
+            for (int k = 0; k < 4; ++k)
+                if (touched[k]) reverse[i].at[k] = touched[k]->pdfRev;
+        } else {
+            for (int k = 0; k < 4; ++k)
+                if (touched[k]) touched[k]->pdfRev = reverse[i].at[k];
+        }
         double pc = 0;
-        strategyWeight(scene, lightPath, r.s, camera, r.t, r.join, st, &pc);
+        misWeight(scene, lightPath, camera, r.s, r.t, st, r.join.equiAngular, r.join.crossed, r.join.ownEquiAngularDensity, &pc);
         u[i] = pc;
+        for (int k = 0; k < 4; ++k)
+            if (touched[k]) touched[k]->pdfRev = before[k];
         if (slot) std::memcpy(static_cast<void*>(slot), saved, sizeof(PathVertex));
     }
 }
@@ -90,6 +125,7 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
     const MisHeuristic h = pilot.heuristic, hm = h == MisHeuristic::Power ? MisHeuristic::Cube : MisHeuristic::Balance;
     const int sets = hm == h ? 1 : 2;
     thread_local std::vector<double> u[2][kParts];
+    thread_local std::vector<ReverseDensities> reverse;
     for (int k = 0; k < sets; ++k)
         for (int b = 0; b < kParts; ++b) {
             MisSettings basis = pilot;
@@ -99,7 +135,7 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
             basis.equiAngularLight = b == 1 || b == 5;
             basis.equiAngularCamera = b == 3 || b == 6;
             basis.equiAngularOnly = b >= 5;
-            perCounts(scene, camera, nCamera, light, nLight, basis, records, u[k][b]);
+            perCounts(scene, camera, nCamera, light, nLight, basis, records, u[k][b], reverse, k == 0 && b == 0);
         }
     // The denominators T = 1/u of the seven settings (u: misWeight's perCount), as parts.
     auto partsOf = [&](int k, size_t i) {

@@ -223,6 +223,17 @@ void AllocationPlanner::decide() {
         pilotSecond += double(weights_[i]) * sumSq_[i] / n;
         pilotMean += double(weights_[i]) * sum_[i] / n;
     }
+    // In single scattering nothing was recorded: the duel decides (header), and the
+    // candidates keep only their counted costs.
+    if (!ratesCandidates()) {
+        estimates_.assign(candidates_.size(), Estimate{});
+        for (size_t j = 0; j < candidates_.size(); ++j) estimates_[j].cost = cost(candidates_[j]);
+        pilotChoice_ = pilot_;
+        pilotVariance_ = pilotVariance;
+        startDuel();
+        if (chosen_ >= 0) keepLeftOut();
+        return;
+    }
     // Each candidate's, by the difference of second moments: V_j = V_pilot + (M + C − Q)_j −
     // (M + C − Q)_pilot, Q = Σ w·E[g_own]² (allocation_statistics.h; the covariances
     // between path lengths that M + C leaves out are taken as the pilot's). Per pass over the
@@ -474,9 +485,13 @@ std::string AllocationPlanner::summaryLine() const {
     const Estimate& p = estimates_[size_t(pilot_)];
     char buf[512];
     const int chosenDuelist = dueling() ? (chosen_ == duelists_[0] ? 0 : 1) : -1;
-    std::snprintf(buf, sizeof buf, "allocation: %s (estimated efficiency %.2fx the pilot's: variance %.2fx, cost %.2fx)",
-                  chosenDuelist >= 0 ? duelistName(chosenDuelist).c_str() : candidates_[size_t(chosen_)].name().c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0,
-                  p.variance > 0 ? e.variance / p.variance : 0.0, p.cost > 0 ? e.cost / p.cost : 0.0);
+    const std::string name = chosenDuelist >= 0 ? duelistName(chosenDuelist) : candidates_[size_t(chosen_)].name();
+    if (ratesCandidates())
+        std::snprintf(buf, sizeof buf, "allocation: %s (estimated efficiency %.2fx the pilot's: variance %.2fx, cost %.2fx)",
+                      name.c_str(), p.efficiency > 0 ? e.efficiency / p.efficiency : 0.0, p.variance > 0 ? e.variance / p.variance : 0.0,
+                      p.cost > 0 ? e.cost / p.cost : 0.0);
+    else
+        std::snprintf(buf, sizeof buf, "allocation: %s (estimated cost %.2fx the pilot's)", name.c_str(), p.cost > 0 ? e.cost / p.cost : 0.0);
     std::string out = buf;
     if (dueling()) {
         // Efficiency of each, from the duel: 1 / (V(4 passes) · cost).
@@ -516,15 +531,19 @@ std::string AllocationPlanner::report() const {
                   perPass(n.rays(StrategyKind::SubpathConnection, false)) + perPass(n.rays(StrategyKind::SubpathConnection, true)),
                   double(samples_) / std::max(1, collected_));
     out += buf;
-    std::snprintf(buf, sizeof buf, "  %-24s %12s %10s %12s   (relative to the pilot)\n", "candidate", "variance", "cost",
-                  "efficiency");
-    out += buf;
-    for (size_t j : order) {
-        const Estimate& e = estimates_[j];
-        std::snprintf(buf, sizeof buf, "  %-24s %12.3g %10.3f %12.3g%s\n", candidates_[j].name().c_str(),
-                      e.variance / p.variance, e.cost / p.cost, e.efficiency / p.efficiency,
-                      int(j) == chosen_ ? "   chosen" : int(j) == pilotChoice_ ? "   pilot's choice" : int(j) == pilot_ ? "   pilot" : "");
+    if (!ratesCandidates()) {
+        out += "  candidates not rated: in single scattering the duel decides\n";
+    } else {
+        std::snprintf(buf, sizeof buf, "  %-24s %12s %10s %12s   (relative to the pilot)\n", "candidate", "variance", "cost",
+                      "efficiency");
         out += buf;
+        for (size_t j : order) {
+            const Estimate& e = estimates_[j];
+            std::snprintf(buf, sizeof buf, "  %-24s %12.3g %10.3f %12.3g%s\n", candidates_[j].name().c_str(),
+                          e.variance / p.variance, e.cost / p.cost, e.efficiency / p.efficiency,
+                          int(j) == chosen_ ? "   chosen" : int(j) == pilotChoice_ ? "   pilot's choice" : int(j) == pilot_ ? "   pilot" : "");
+            out += buf;
+        }
     }
     if (dueling() && duel_.passes(1) == AllocationDuel::kPasses) {
         // The duel's measurements with the render's sampler: the weighted relative variance

@@ -83,7 +83,7 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
                                scene.emitterSampling() == EmitterSampling::SolidAngle;
     planner_->setPathTracerProbe(scene.mediumChannels() > 1 || ownStrategies);
     options_.allocation = planner_->allocationFor(pass);
-    collecting_ = planner_->collects(pass);
+    collecting_ = planner_->collects(pass) && planner_->ratesCandidates();
 }
 
 double BdptIntegrator::lightSubpathsMade() const {

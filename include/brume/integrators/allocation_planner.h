@@ -10,9 +10,10 @@
 //                 0 gives each pixel's weight 1/(Ī² + ε) (Ī: its value box-filtered 5×5;
 //                 ε = 0.01 as in `brume bench`'s relative MSE); the spread of the pilot
 //                 passes' values gives the pilot's own relative variance V_pilot;
-//   pass 1 (1–3)  also: every second pixel in x and y records its contributions, for the
+//   pass 1        also: every second pixel in x and y records its contributions, for the
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
-//                 part of a sample counts its rays;
+//                 part of a sample counts its rays (passes 1–3 count, and record nothing, in
+//                 single scattering, where no estimate decides);
 //   passes 2–17   (4–19) the duel (allocation_duel.h), where the pilot rated the best
 //                 bidirectional allocation with light subpaths and the path tracer within
 //                 16× of each other:
@@ -109,6 +110,10 @@ public:
     // The allocation for pass `pass`, and whether that pass records statistics at pixel (x, y).
     const BdptAllocation& allocationFor(int pass) const;
     bool collects(int pass) const { return pilotChoice_ < 0 && pass >= kWeightPasses && pass <= decisionPass(); }
+    // Whether the pilot's recording pixels record contributions for the candidates' estimates:
+    // not in single scattering, where the duel decides alone (the header) and the estimates
+    // would serve only --stats (recording cost a fifth to a half of a pilot pass).
+    bool ratesCandidates() const { return !learnedShare_; }
     // The pilot passes sample independently (their spread measures the pilot's variance);
     // the rest with the sampler asked for.
     SamplerKind samplerFor(int pass, SamplerKind requested) const {

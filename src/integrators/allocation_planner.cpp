@@ -282,10 +282,6 @@ void AllocationPlanner::decide() {
             if (probe_ && std::isfinite(d) && probeSawAll) d = moments_.probe * scale - pilotSecond;
         }
         e.variance = std::isfinite(d) ? std::max(pilotVariance + d, 1e-2 * pilotVariance) : std::numeric_limits<double>::infinity();
-        // With light tracing's learned share the pilot's camera walk passes through media at
-        // its last scattering event, leaving them to the equi-angular light connection: an
-        // allocation without it is not rated.
-        if (learnedShare_ && !candidates_[j].equiAngularLight) e.variance = std::numeric_limits<double>::infinity();
         e.cost = cost(candidates_[j]);
         e.efficiency = e.variance > 0 && e.cost > 0 && std::isfinite(e.variance) ? 1.0 / (e.variance * e.cost) : 0.0;
         if (e.efficiency > estimates_[size_t(best)].efficiency) best = int(j);

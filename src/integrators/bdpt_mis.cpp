@@ -381,12 +381,19 @@ void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, Pa
     }
 }
 
+void connectionNeighbours(PathVertex* light, int s, PathVertex* camera, int t, PathVertex* out[4]) {
+    out[0] = &camera[t - 1];
+    out[1] = t >= 2 ? &camera[t - 2] : nullptr;
+    out[2] = s >= 1 ? &light[s - 1] : nullptr;
+    out[3] = s >= 2 ? &light[s - 2] : nullptr;
+}
+
 double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t, const StrategyJoin& join,
                       MisSettings st, double* perCount) {
     // The four densities are the subpaths' own outside this connection: put them back after.
     Channels saved[4];
-    PathVertex* touched[4] = {&camera[t - 1], t >= 2 ? &camera[t - 2] : nullptr, s >= 1 ? &light[s - 1] : nullptr,
-                              s >= 2 ? &light[s - 2] : nullptr};
+    PathVertex* touched[4];
+    connectionNeighbours(light, s, camera, t, touched);
     for (int i = 0; i < 4; ++i)
         if (touched[i]) saved[i] = touched[i]->pdfRev;
     connectionReverseDensities(scene, light, s, camera, t, join, st);

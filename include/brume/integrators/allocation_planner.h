@@ -112,7 +112,8 @@ public:
     bool collects(int pass) const { return pilotChoice_ < 0 && pass >= kWeightPasses && pass <= decisionPass(); }
     // Whether the pilot's recording pixels record contributions for the candidates' estimates:
     // not in single scattering, where the duel decides alone (the header) and the estimates
-    // would serve only --stats (recording cost a fifth to a half of a pilot pass).
+    // would serve only --stats (recording made a pilot pass 1.4–1.6× as long on two
+    // validation scenes).
     bool ratesCandidates() const { return !learnedShare_; }
     // The pilot passes sample independently (their spread measures the pilot's variance);
     // the rest with the sampler asked for.

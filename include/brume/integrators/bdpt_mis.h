@@ -99,6 +99,10 @@ double strategyWeight(const Scene& scene, PathVertex* light, int s, PathVertex* 
 void connectionReverseDensities(const Scene& scene, PathVertex* light, int s, PathVertex* camera, int t,
                                 const StrategyJoin& join, MisSettings settings);
 
+// The four vertices whose pdfRev that sets, in this order (nullptr where one does not exist):
+// z(t−1), z(t−2), y(s−1), y(s−2).
+void connectionNeighbours(PathVertex* light, int s, PathVertex* camera, int t, PathVertex* out[4]);
+
 // The weight for joined subpaths whose four vertices next to the connection already carry its
 // reverse densities (strategyWeight calls this; the weight checker's derivation follows it).
 // *perCount (if given) receives the weight divided by the own strategy's count (for the

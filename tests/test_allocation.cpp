@@ -195,6 +195,9 @@ TEST_CASE("auto in single scattering duels the bidirectional tracer with light t
         REQUIRE(p.learnedShare());
         REQUIRE(p.decided());
         REQUIRE(p.dueling());
+        // The duel decides alone: the pilot rates no candidate (and records nothing for it).
+        CHECK_FALSE(p.ratesCandidates());
+        CHECK(p.report().find("candidates not rated") != std::string::npos);
         REQUIRE(integrator.directLightTracing());
         CHECK(integrator.directLightTracing()->passes() == DirectLightTracing::kPasses);
         CHECK(p.candidates()[size_t(p.duelist(0))] == pilotAllocation());
@@ -214,6 +217,7 @@ TEST_CASE("auto in single scattering duels the bidirectional tracer with light t
     auto scene = loadTestScene("single_near.gltf");
     BdptIntegrator full(autoOptions(-1));
     CHECK_FALSE(full.planner()->learnedShare());
+    CHECK(full.planner()->ratesCandidates());
     CHECK(full.directLightTracing() == nullptr);
 }
 

@@ -84,7 +84,19 @@ std::string workPerSample(const std::string& integrator, const RenderStats& st) 
                       per(b.rays(StrategyKind::LightConnection, true)), per(b.rays(StrategyKind::CameraConnection, false)),
                       per(b.rays(StrategyKind::CameraConnection, true)), per(b.rays(StrategyKind::SubpathConnection, false)),
                       per(b.rays(StrategyKind::SubpathConnection, true)));
-    return buf + techniqueShares(st.techniques);
+    std::string out = buf;
+    // Samples the path tracer made inside the bidirectional tracer: auto's path tracer, and
+    // the camera family of the single-scattering split (one_event_split.h), whose light
+    // tracing is counted above as the light walk and camera connections.
+    if (integrator != "pt" && pt.samples > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "  by the path tracer inside, %.3f of the samples: walk rays %.3f; light connections at vertices "
+                      "%.3f (%.3f rays), on segments %.3f (%.3f rays), by solid angle %.3f (%.3f rays)\n",
+                      per(pt.samples), per(pt.walkRays), per(pt.vertexCalls), per(pt.vertexRays), per(pt.segmentCalls),
+                      per(pt.segmentRays), per(pt.solidAngleCalls), per(pt.solidAngleRays));
+        out += buf;
+    }
+    return out + techniqueShares(st.techniques);
 }
 
 
@@ -517,6 +529,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.heuristic = a.heuristic;
     method.plannedPasses = a.seconds > 0 ? 0 : a.spp;
     if (!a.allocation.empty()) allocationNamed(a.allocation, a.connect, &method.allocation);
+    method.oneEventSplit = a.strategyDir.empty();
     return method;
 }
 

@@ -37,7 +37,12 @@ void AllocationDuel::addWork(int c, const PathStats& totals, double samples) {
 
 double AllocationDuel::cost(int c, bool pathTracer) const {
     if (passes_[c] == 0) return 0.0;
-    return (pathTracer ? pathTracerCost(counts_[c].pt) : bidirectionalCost(counts_[c].bdpt, samples_[c])) / passes_[c];
+    const PathCounts& n = counts_[c];
+    // (The bidirectional tracer's single-scattering split, one_event_split.h, counts its camera
+    // family as the path tracer and its light tracing as the bidirectional tracer does.)
+    const bool split = !pathTracer && n.pt.samples > 0;
+    if (pathTracer || split) return (pathTracerCost(n.pt) + (split ? bidirectionalCost(n.bdpt, 0.0) : 0.0)) / passes_[c];
+    return bidirectionalCost(n.bdpt, samples_[c]) / passes_[c];
 }
 
 // Pairs of 2^level-pass batches in kPasses passes: kPasses / 2^(level+1); each gives 2·V.

@@ -8,6 +8,7 @@
 #include "brume/integrators/bdpt_strategies.h"
 #include "brume/integrators/bdpt_subpaths.h"
 #include "brume/integrators/direct_light_tracing.h"
+#include "brume/integrators/one_event_split.h"
 #include "brume/integrators/sample_dimensions.h"
 
 namespace brume {
@@ -75,6 +76,12 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     guideTraining_ = options_.guiding && pathTracer_.guide()->training();
     learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass);
     usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
+    // Every strategy, in single scattering where the split applies: the fixed tracer, and
+    // auto's pilot and duel contender (the pilot's allocation) there. (Not under the hooks,
+    // which show and check the generic strategies.)
+    splitting_ = options_.oneEventSplit && (!planner_ || planner_->learnedShare()) && options_.maxDepth == 1 &&
+                 !options_.guiding && options_.hooks.onlyS < 0 && !options_.hooks.observer &&
+                 options_.allocation == BdptAllocation{} && oneEventSplitApplies(scene);
     if (!planner_) return;
     if (direct_) planner_->setLightShare(direct_->subpathShare());
     // The path tracer samples distances by an emitter's solid angle, which the bidirectional
@@ -201,6 +208,7 @@ void BdptIntegrator::loadOwnState(const std::string& state) {
 Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy, int width, int height,
                                           Sampler& sampler, PathStats& stats, SplatList& splats) const {
     if (options_.allocation.pathTracer || guideTraining_) return pathTracer_.sample(scene, fx, fy, width, height, sampler, stats);
+    if (splitting_) return sampleSplit(scene, fx, fy, width, height, sampler, stats, splats);
     thread_local Subpaths paths;
     PathVertex* camera = paths.camera.data();
     PathVertex* light = paths.light.data();
@@ -352,6 +360,31 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 stats.moments.probeMean += double(w[ch]) * double(probe[ch]);
             }
     }
+    return L;
+}
+
+// The camera family: the path tracer's sample with W_C; the light family: light tracing, made
+// with probability q by a number of the image-wide sequence (as the light subpaths of the
+// generic tracer), with W_L; κ and q as the generic tracer has them (direct_light_tracing.h).
+Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
+                                     PathStats& stats, SplatList& splats) const {
+    OneEventSplit split;
+    split.mode = options_.connect;
+    split.width = width;
+    split.height = height;
+    split.q = lightSubpathsMade();
+    split.kappa = usesShare_ ? direct_->factor() : options_.directLightTracing >= 0 ? options_.directLightTracing : 1.0;
+    const int px = std::min(int(fx), width - 1), py = std::min(int(fy), height - 1);
+    Spectrum alone(0.0f);
+    if (learningDirect_) {
+        direct_->ensureImages(width, height);
+        split.cameraAlone = &alone;
+    }
+    const Spectrum L = pathTracer_.sample(scene, fx, fy, width, height, sampler, stats, &split);
+    const Sampler lightSampler = sampler.imageWide(uint64_t(py) * uint64_t(width) + uint64_t(px), uint64_t(width) * uint64_t(height));
+    if (split.q >= 1 || lightSampler.get1D(dim::kLightStart + dim::kMade) < split.q)
+        oneEventLightTracing(scene, split, lightSampler, stats, splats, learningDirect_ ? direct_.get() : nullptr);
+    if (learningDirect_) direct_->addCamera(px, py, alone);
     return L;
 }
 

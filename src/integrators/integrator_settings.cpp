@@ -35,6 +35,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.volumeLights = s.volumeLights;
     o.learnShares = s.learnShares;
     o.plannedPasses = s.plannedPasses;
+    o.oneEventSplit = s.oneEventSplit;
     return o;
 }
 

@@ -10,6 +10,7 @@
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/light_numbers.h"
 #include "brume/integrators/mis.h"
+#include "brume/integrators/one_event_split.h"
 #include "brume/integrators/sample_dimensions.h"
 #include "brume/integrators/solid_angle_segment.h"
 #include "brume/integrators/state_bytes.h"
@@ -41,6 +42,18 @@ namespace brume {
 // over the strategies the mode turns on (mis: A, B and C, or A, B and D for emissive triangles
 // sampled by solid angle). At surfaces only A and B.
 namespace {
+
+// Where the bidirectional tracer renders single scattering with this tracer as its camera
+// family (one_event_split.h): the family's weight W_C of the path a connection made, asked
+// for by the connections that make one-event paths in media.
+struct FamilyShare {
+    const OneEventSplit* split = nullptr;
+    float* weight = nullptr;
+    // x in m, y on light li; p: the density per unit length with which x was placed.
+    void weigh(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double p) const {
+        if (split) *weight = split->cameraWeight(scene, x, m, li, y, p);
+    }
+};
 
 // Where a medium vertex came from: needed to weigh strategies that could have made it.
 struct MediumOrigin {
@@ -198,7 +211,7 @@ float distanceDensity(const Medium& m, const MediumTransit& tr, Spectrum channel
 // Strategy A: next-event estimation from a surface or free-flight medium vertex.
 Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& media, ConnectMode mode,
                       const Sampler& sampler, uint32_t dims, SolidAngleTables& tables, PathStats& stats,
-                      const ShareNotes& shares) {
+                      const ShareNotes& shares, const FamilyShare& family = FamilyShare{}) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, 0, &pick);
@@ -232,6 +245,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     Spectrum T = transmittanceAlong(scene, seg, media, stats);
     const Spectrum value = f * ls.Le * T * (w / (q * pick * ls.pdf));
     if (v.origin) shares.note(ConnectionShares::Technique::Vertex, value, w, p);
+    if (v.origin) family.weigh(scene, v.p, *v.origin->seg.medium, li, ls.p, v.origin->pFreeFlight);
     return value;
 }
 
@@ -265,7 +279,7 @@ Spectrum inScattered(const Scene& scene, const MediumSegment& seg, const MediumT
 Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const MediumStack& media,
                            ConnectMode mode, Spectrum channels, const Sampler& sampler, uint32_t dims, uint32_t repeat,
                            SolidAngleTables& tables, bool passing, const GuidingField* field, const GuidedDistance* gd,
-                           PathStats& stats, const ShareNotes& shares) {
+                           PathStats& stats, const ShareNotes& shares, const FamilyShare& family = FamilyShare{}) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
     int li = pickLight(scene, sampler, dims, repeat, &pick);
@@ -305,6 +319,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     if (w == 0) return Spectrum(0.0f);
     const Spectrum value = inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
     shares.note(ConnectionShares::Technique::Segment, value, w, p);
+    family.weigh(scene, x, m, li, ls.p, pea);
     return value;
 }
 
@@ -377,7 +392,7 @@ struct PartMeter {
 }  // namespace
 
 Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
-                            PathStats& stats) const {
+                            PathStats& stats, const OneEventSplit* split) const {
     const bool nee = options_.nextEventEstimation;
     const ConnectMode mode = options_.connect;
     const int maxDepth = options_.maxDepth < 0 ? 1 << 30 : options_.maxDepth;
@@ -520,9 +535,12 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 {
                     const PartMeter meter(stats, stats.counts.pt.segmentRays, stats.counts.pt.segmentCalls,
                                           &stats.counts.pt.segmentTracingCalls);
-                    L += counted(PathTracerTechnique::OnSegment,
-                                 beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat,
-                                                          tables, passing, field, gd, stats, notes.scaled(beta)));
+                    float share = 1;
+                    const Spectrum value =
+                        beta * equiAngularDirect(scene, seg, walk.media(), mode, channels, sampler, eaDims, repeat, tables,
+                                                 passing, field, gd, stats, notes.scaled(beta),
+                                                 FamilyShare{depth == 0 ? split : nullptr, &share});
+                    L += counted(PathTracerTechnique::OnSegment, split ? split->share(value, share) : value);
                 }
                 if (passing && stats.counts.pt.segmentTracingCalls != tracing) ++passingSegmentCalls;
             }
@@ -583,8 +601,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
             if (nee && (mode != ConnectMode::Mis || notes.q.vertex >= 1 || notes.q.vertex <= 0 ||
                         sampler.get1D(aDims + dim::kConnect) < notes.q.vertex)) {
                 const PartMeter meter(stats, stats.counts.pt.vertexRays, stats.counts.pt.vertexCalls);
-                direct = sampleDirect(scene, v, media, mode, sampler, aDims, tables, stats, notes.scaled(beta));
-                L += counted(PathTracerTechnique::AtVertex, beta * direct);
+                float share = 1;
+                direct = sampleDirect(scene, v, media, mode, sampler, aDims, tables, stats, notes.scaled(beta),
+                                      FamilyShare{depth == 1 ? split : nullptr, &share});
+                L += counted(PathTracerTechnique::AtVertex, split ? split->share(beta * direct, share) : beta * direct);
                 ++mediumVertexCalls;
             }
             if (volumeNee) L += counted(PathTracerTechnique::AtVertex, beta * volumeDirect(scene, v, Vec3(0.0f), media, sampler, depth, stats));

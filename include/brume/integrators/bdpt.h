@@ -89,6 +89,11 @@ struct BdptOptions {
     BdptAllocation allocation;
 
     BdptHooks hooks;
+    // Single scattering beside point and spot lights in homogeneous grey fog: the camera
+    // family made by the path tracer inside and light tracing split by one weight per path
+    // (one_event_split.h), where the fixed tracer makes every strategy. false: the generic
+    // weights over every strategy (as --strategy-images splits them).
+    bool oneEventSplit = true;
 };
 
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
@@ -113,6 +118,8 @@ public:
     LeftOutPasses leftOut() const override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
     bool learning(int pass) const override;
+    // Whether this pass renders by the one-event split (BdptOptions::oneEventSplit).
+    bool splitsOneEvent() const { return splitting_; }
     std::string saveState() const override;
     void loadState(const std::string& state) override;
 
@@ -145,6 +152,7 @@ private:
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
     bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
     bool sharesPass_ = false;      // this pass teaches pathTracer_ its connection shares
+    bool splitting_ = false;       // this render's samples take the one-event split (beginPass)
     mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
     // Passes before the bidirectional tracer's own: the guide's training passes (16, or fewer
     // when its records filled up first).
@@ -155,6 +163,9 @@ private:
     // still learnt: its allocation is the path tracer's for good (after the planner's
     // choice), or it is one of the path tracer's last duel passes.
     bool sharesPassAt(int pass) const;
+    // A sample by the one-event split (one_event_split.h).
+    Spectrum sampleSplit(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
+                         PathStats& stats, SplatList& splats) const;
 };
 
 }  // namespace brume

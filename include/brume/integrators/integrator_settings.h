@@ -40,6 +40,9 @@ struct IntegratorSettings {
     MisHeuristic heuristic = MisHeuristic::Power;
     BdptAllocation allocation;
     bool exactEquiAngular = false, generalEquiAngular = false;
+    // The fixed bidirectional tracer's single-scattering split (BdptOptions::oneEventSplit);
+    // off where --strategy-images shows the generic strategies, so that they add up to the image.
+    bool oneEventSplit = true;
 };
 
 // "pt", "bdpt" or "auto"; false for anything else.

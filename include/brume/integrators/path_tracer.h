@@ -12,6 +12,8 @@
 
 namespace brume {
 
+struct OneEventSplit;
+
 // How light is connected to medium segments (docs/path-tracer.md):
 //  Density:     next-event estimation from the free-flight scatter point;
 //  EquiAngular: from a point sampled equi-angularly towards the light on each segment
@@ -62,7 +64,13 @@ public:
                       ? std::make_unique<ConnectionShares>()
                       : nullptr) {}
     Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
-                    PathStats& stats) const override;
+                    PathStats& stats) const override {
+        return sample(scene, fx, fy, width, height, sampler, stats, nullptr);
+    }
+    // The bidirectional tracer's camera family in single scattering (one_event_split.h): the
+    // sample with each path camera → medium point → light weighted by the split's W_C.
+    Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler, PathStats& stats,
+                    const OneEventSplit* split) const;
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
         if (shares_) shares_->endPass(summary);

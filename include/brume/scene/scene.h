@@ -61,6 +61,8 @@ public:
     const Material& material(int mesh) const { return desc_.materials[desc_.meshes[mesh].material]; }
     const Mesh& mesh(int index) const { return desc_.meshes[index]; }
     bool hasMedia() const { return !desc_.media.empty(); }
+    // True if some medium is bounded by a mesh (a point's media then depend on where it is).
+    bool hasBoundedMedia() const { return hasBoundedMedia_; }
     // True if some mesh is an invisible medium boundary that rays pass through.
     bool hasInvisibleBoundaries() const { return hasInvisibleBoundaries_; }
     // True if some emitter is a transparent light surface (Material::transparent): walks

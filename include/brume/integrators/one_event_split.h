@@ -1,0 +1,85 @@
+// The bidirectional tracer in single scattering, where it can be that cheap: the camera
+// family's paths made by the path tracer itself, and light tracing's, split between them by
+// one weight per path (docs/mis.md, "One scattering event: two families").
+//
+// Why. In single scattering (--max-depth 1) beside point and spot lights in homogeneous grey
+// fog, a path camera c → x (in the medium) → light point y is made by two families:
+//   camera: the camera ray through x, x placed on it equi-angularly towards y (the path
+//           tracer's strategy C, product sampling where it takes the phase; the walk passes
+//           through the medium there, so C stands alone), or with --connect density by free
+//           flight, and y the light;
+//   light:  light tracing: a ray from y through x, x placed on it equi-angularly towards the
+//           pinhole (the camera as a point light), or with --connect density by free flight,
+//           then connected to the camera;
+// every other strategy of the tracer (general connections, emitter hits) makes none of them.
+// The generic tracer builds both subpaths' vertex records and weighs every connection over
+// all strategies; in single scattering that machinery cost 1.6x the path tracer's time for
+// the same rays (val_thin_lamp, 128 spp), and with the light subpaths 1.9x. Here the camera
+// family is the path tracer's sample, and the only weight it needs is its family's share.
+// (Light tracing by free flight beside the equi-angular one added a tenth of light tracing's
+// part of the image for twice its rays: left out.)
+//
+// The weight. Per unit volume at x, for a light picked with pmf P (the same in both families)
+// and a pinhole whose film is sampled uniformly (camera_importance.h's pdfDir):
+//   p_C = P · pdfDir(ω_cx) / |x − c|² · π_C,     π_C per unit length on the camera ray
+//   p_L = q · P · p_e(ω_yx) / |x − y|² · π_L,    π_L on the light ray (p_e: emission direction
+//                                                density; q: light subpaths made per sample)
+// The power heuristic over the two, with light tracing's variance-aware factor κ
+// (direct_light_tracing.h), gives the families
+//   W_C = p_C² / (p_C² + κ²·p_L²),   W_L = 1 − W_C.
+// A camera-family sample counts the path tracer's value times W_C; a light-family sample its
+// value times W_L and 1/q. The weights sum to 1 on every path, so the sum is unbiased whatever
+// π_C and π_L are; they are chosen to be near the densities the families sample with, and cheap
+// where the path tracer asks (once per connection): π_C is the path tracer's own density (on
+// the light side found again with one ray along the camera ray to its first surface), π_L the
+// equi-angular stand-in over [0, ∞) (equiangular.h), which needs no ray.
+// Paths whose x is on a surface are the camera family's alone (W_C = 1: light tracing here
+// makes none of them).
+#pragma once
+#include "brume/integrators/integrator.h"
+#include "brume/integrators/path_tracer.h"
+#include "brume/scene/light.h"
+#include "brume/scene/medium.h"
+
+namespace brume {
+
+class DirectLightTracing;
+class SplatList;
+struct PathStats;
+class Sampler;
+
+// Whether single scattering in `scene` is made by the two families above: every light a
+// point or spot light, media (if any) only the ambient one, homogeneous, grey and not
+// emissive, nothing transparent that emits.
+bool oneEventSplitApplies(const Scene& scene);
+
+struct OneEventSplit {
+    ConnectMode mode = ConnectMode::Mis;
+    int width = 0, height = 0;
+    double q = 1;      // light subpaths made per sample
+    double kappa = 1;  // light tracing's variance-aware factor
+    // Learning passes of κ (direct_light_tracing.h): where the camera family's value of this
+    // sample, weighted within its family alone, is summed.
+    Spectrum* cameraAlone = nullptr;
+
+    // W_C of the path camera → x (in medium m) → point y of light `li`, the camera family's
+    // density of x per unit length on its ray being `cameraDensity`.
+    float cameraWeight(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double cameraDensity) const;
+    // That density as the path tracer has it: equi-angular (product) over the camera ray's
+    // segment to its first surface, clipped to the light (one ray), or free flight.
+    double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y, PathStats& stats) const;
+    // A camera-family value of such a path and its W_C: summed alone while learning, returned
+    // weighted.
+    Spectrum share(const Spectrum& value, float weight) const {
+        if (cameraAlone) *cameraAlone += value;
+        return value * weight;
+    }
+};
+
+// The light family of one sample (made with probability q by the caller): a light, an
+// emission from it, x on its ray, connected to the camera and splatted with its weight.
+// `learning`: also its value alone (κ's learning passes).
+void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const Sampler& lightSampler, PathStats& stats,
+                          SplatList& splats, DirectLightTracing* learning);
+
+}  // namespace brume

@@ -64,6 +64,46 @@ TEST_CASE("light tracing's share: the ratio of the families' variances, within i
     CHECK(none.factor() == 1.0);
 }
 
+// The check with Sobol numbers (the one-event split): after learning κ = 0.25, eight checking
+// passes whose camera-side values alternate about the pixel's mean (a ± pattern over the
+// passes, as a stratified sequence's do, plus a little noise: batches of 4 passes nearly exact)
+// while light tracing's stay independent. The camera side's gain at 4 passes is large, light
+// tracing's 1, so κ falls, to the floor here; with both independent it stays within noise.
+TEST_CASE("light tracing's share: checked with Sobol numbers, it falls where the camera side converges faster",
+          "[bdpt][mis]") {
+    for (bool stratified : {true, false}) {
+        DirectLightTracing d;
+        learn(d, 0.3, 0.6, 7);
+        const double learned = d.factor();
+        for (int k = 0; k < DirectLightTracing::kCheckPasses; ++k) {
+            const int pass = DirectLightTracing::kPasses + k;
+            REQUIRE(d.checking(pass));
+            d.ensureImages(kW, kH);
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x) {
+                    Sampler pixel(8, uint64_t(y * kW + x), 0, SamplerKind::Independent);
+                    Sampler s(9, uint64_t(y * kW + x), uint64_t(pass), SamplerKind::Independent);
+                    const float v = 2 * pixel.get1D(0) - 1, e = 2 * s.get1D(0) - 1, u = 2 * s.get1D(1) - 1;
+                    const float camera = stratified ? (k % 2 ? -v : v) + 0.05f * e : e;
+                    d.addCamera(x, y, Spectrum(float(1 + 0.3 * camera)));
+                    d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
+                }
+            d.endCheckPass();
+        }
+        CHECK_FALSE(d.checking(DirectLightTracing::kPasses + DirectLightTracing::kCheckPasses));
+        INFO((stratified ? "stratified" : "independent") << ": learned " << learned << ", checked " << d.factor()
+                                                         << ", gains " << d.cameraGain() << " and " << d.lightGain());
+        CHECK(d.lightGain() == Approx(1.0).epsilon(0.5));
+        if (stratified) {
+            CHECK(d.cameraGain() > 20);
+            CHECK(d.factor() == DirectLightTracing::kFloor);
+        } else {
+            CHECK(d.cameraGain() == Approx(1.0).epsilon(0.5));
+            CHECK(d.factor() == Approx(learned).epsilon(0.6));
+        }
+    }
+}
+
 TEST_CASE("light tracing's share: one firefly does not decide it", "[bdpt][mis]") {
     DirectLightTracing d;
     for (int pass = 0; pass < DirectLightTracing::kPasses; ++pass) {

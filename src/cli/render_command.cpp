@@ -63,6 +63,12 @@ std::string techniqueShares(const TechniqueSums& t) {
     return out;
 }
 
+std::string fixed4(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+
 // --stats: what a sample did, per part (the counters the duel's costs are counted from).
 std::string workPerSample(const std::string& integrator, const RenderStats& st) {
     const double n = double(std::max<uint64_t>(st.samples, 1));
@@ -581,8 +587,12 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
     if (a.stats && shares && sharesRender) std::printf("%s", shares->report().c_str());
     if (direct && a.stats && direct->passes() == DirectLightTracing::kPasses)
         std::printf("light tracing's share of one-scattering paths: factor %.4g (relative variance of a pass alone, summed over pixels: "
-                    "camera side %.4g, light tracing %.4g)\n",
-                    direct->factor(), direct->cameraVariance(), direct->lightVariance());
+                    "camera side %.4g, light tracing %.4g%s)\n",
+                    direct->factor(), direct->cameraVariance(), direct->lightVariance(),
+                    direct->cameraGain() > 0 ? (", checked with Sobol numbers: gain at 4 passes camera side " +
+                                                fixed4(direct->cameraGain()) + ", light tracing " + fixed4(direct->lightGain()))
+                                                   .c_str()
+                                             : "");
     if (group.distributed()) {
         // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
         // rendering time over the busiest one's.

@@ -82,6 +82,8 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     splitting_ = options_.oneEventSplit && (!planner_ || planner_->learnedShare()) && options_.maxDepth == 1 &&
                  !options_.guiding && options_.hooks.onlyS < 0 && !options_.hooks.observer &&
                  options_.allocation == BdptAllocation{} && oneEventSplitApplies(scene);
+    // The fixed tracer's split checks light tracing's factor with the render's Sobol numbers.
+    checkingDirect_ = splitting_ && !planner_ && direct_ && direct_->checking(pass);
     if (!planner_) return;
     if (direct_) planner_->setLightShare(direct_->subpathShare());
     // The path tracer samples distances by an emitter's solid angle, which the bidirectional
@@ -376,21 +378,23 @@ Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int
     split.kappa = usesShare_ ? direct_->factor() : options_.directLightTracing >= 0 ? options_.directLightTracing : 1.0;
     const int px = std::min(int(fx), width - 1), py = std::min(int(fy), height - 1);
     Spectrum alone(0.0f);
-    if (learningDirect_) {
+    const bool gathering = learningDirect_ || checkingDirect_;
+    if (gathering) {
         direct_->ensureImages(width, height);
         split.cameraAlone = &alone;
     }
     const Spectrum L = pathTracer_.sample(scene, fx, fy, width, height, sampler, stats, &split);
     const Sampler lightSampler = sampler.imageWide(uint64_t(py) * uint64_t(width) + uint64_t(px), uint64_t(width) * uint64_t(height));
     if (split.q >= 1 || lightSampler.get1D(dim::kLightStart + dim::kMade) < split.q)
-        oneEventLightTracing(scene, split, lightSampler, stats, splats, learningDirect_ ? direct_.get() : nullptr);
-    if (learningDirect_) direct_->addCamera(px, py, alone);
+        oneEventLightTracing(scene, split, lightSampler, stats, splats, gathering ? direct_.get() : nullptr);
+    if (gathering) direct_->addCamera(px, py, alone);
     return L;
 }
 
 bool BdptIntegrator::learning(int pass) const {
     if (options_.guiding && pathTracer_.learning(pass)) return true;
     if (direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass)) return true;
+    if (splitting_ && !planner_ && direct_ && direct_->checking(pass)) return true;
     if (sharesPassAt(pass)) return true;
     return planner_ && !planner_->decided();
 }
@@ -400,6 +404,7 @@ void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
     if (sharesPass_) pathTracer_.endPass(scene, summary);
     if (guideTraining_) return;
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
+    if (checkingDirect_) summary.complete ? direct_->endCheckPass() : direct_->discardPass();
     if (planner_) {
         if (direct_) planner_->setLightShare(direct_->subpathShare());
         planner_->endPass(summary);

@@ -56,10 +56,12 @@ void DirectLightTracing::endPass(const PassSummary& summary) {
         first_[0] = camera_;
         first_[1] = std::move(lightImage);
     } else if (first_[0].size() == n && first_[1].size() == n) {
+        if (weights_.size() != n) weights_.assign(n, 0.0f);
         for (size_t i = 0; i < n; ++i) {
             // Relative to the pair's mean of both families (the same weight for both).
             const double mean = 0.25 * (double(first_[0][i]) + camera_[i] + first_[1][i] + lightImage[i]);
             const double w = 1.0 / (mean * mean + 0.01);
+            weights_[i] += float(w / (kPasses / 2));  // (the check's: the mean over the pairs)
             const double dc = double(camera_[i]) - first_[0][i], dl = double(lightImage[i]) - first_[1][i];
             squares_[0][(i / 3) % kGroups] += 0.5 * w * dc * dc;
             squares_[1][(i / 3) % kGroups] += 0.5 * w * dl * dl;
@@ -83,6 +85,32 @@ void DirectLightTracing::endPass(const PassSummary& summary) {
     first_[0] = first_[1] = {};
 }
 
+void DirectLightTracing::endCheckPass() {
+    if (!ready_.load()) {  // (a pass without samples)
+        ++checkPasses_;
+        return;
+    }
+    const size_t n = camera_.size();
+    if (weights_.size() != n) weights_.assign(n, 1.0f);
+    std::vector<float> lightImage(n);
+    for (size_t i = 0; i < n; ++i) lightImage[i] = float(double(light_[i].load(std::memory_order_relaxed)) / kScale);
+    batches_[0].addPass(0, checkPasses_, camera_, weights_);
+    batches_[1].addPass(0, checkPasses_, lightImage, weights_);
+    ++checkPasses_;
+    std::fill(camera_.begin(), camera_.end(), 0.0f);
+    for (size_t i = 0; i < n; ++i) light_[i].store(0, std::memory_order_relaxed);
+    if (checkPasses_ < kCheckPasses) return;
+    // G = V(1) / (4·V(4)): 1 for independent numbers, more as Sobol numbers give more.
+    for (int f = 0; f < 2; ++f) {
+        const double v4 = batches_[f].variance(0, AllocationDuel::kLevels - 1);
+        gain_[f] = v4 > 0 ? batches_[f].variance(0, 0) / (4.0 * v4) : 0.0;
+    }
+    if (gain_[0] > 0 && gain_[1] > 0) factor_ = std::max(kFloor, std::min(1.0, factor_ * gain_[1] / gain_[0]));
+    camera_ = {};
+    light_.reset();
+    ready_.store(false);
+}
+
 void DirectLightTracing::discardPass() {
     if (!ready_.load()) return;
     std::fill(camera_.begin(), camera_.end(), 0.0f);
@@ -90,7 +118,9 @@ void DirectLightTracing::discardPass() {
 }
 
 // State: i32 passes, f64 factor, f64 variances × 2, f64 squares × 2·kGroups, the pair's
-// first pass (u64 n, n f32) × 2, then the learning passes' exact sums (u64 n, n × 128 bits).
+// first pass (u64 n, n f32) × 2, the learning passes' exact sums (u64 n, n × 128 bits), then the
+// check: i32 passes, its pixel weights (u64 n, n f32), f64 gains × 2, its batches × 2
+// (allocation_duel.h).
 void DirectLightTracing::save(std::string& out) const {
     putBytes(out, int32_t(passes_));
     putBytes(out, factor_);
@@ -99,6 +129,10 @@ void DirectLightTracing::save(std::string& out) const {
         for (double v : row) putBytes(out, v);
     for (const std::vector<float>& f : first_) putVector(out, f);
     putVector(out, passSums_);
+    putBytes(out, int32_t(checkPasses_));
+    putVector(out, weights_);
+    for (double g : gain_) putBytes(out, g);
+    for (const AllocationDuel& b : batches_) b.save(out);
 }
 
 void DirectLightTracing::load(StateReader& r) {
@@ -111,6 +145,11 @@ void DirectLightTracing::load(StateReader& r) {
         for (double& v : row) v = r.get<double>();
     for (std::vector<float>& f : first_) f = r.getVector<float>(size_t(1) << 34);
     passSums_ = r.getVector<FixedSum>(size_t(1) << 34);
+    checkPasses_ = r.get<int32_t>();
+    if (checkPasses_ < 0 || checkPasses_ > kCheckPasses) throw std::runtime_error("light tracing state is malformed");
+    weights_ = r.getVector<float>(size_t(1) << 34);
+    for (double& g : gain_) g = r.get<double>();
+    for (AllocationDuel& b : batches_) b.load(r, weights_.size());
 }
 
 }  // namespace brume

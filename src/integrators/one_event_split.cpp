@@ -150,7 +150,7 @@ void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const 
                        : emitted * T * float(std::exp(-double(sigmaT) * t) / p * hgPhase(dot(es.d, cc.wi), m->g) * cc.We *
                                              dot(-cc.wi, cam.forward) / (double(cc.dist) * cc.dist));
         const double within = p * p / (p * p + pOther * pOther);
-        if (learning) learning->addLight(int(cc.fx), int(cc.fy), value * float(within));
+        if (learning) learning->addLight(int(cc.fx), int(cc.fy), value * float(within / split.q));
         double w = 0;
         if (!isBlack(value)) {
             const double pCamera = split.cameraDensity(scene, x, *m, light, es.p, stats);

@@ -153,6 +153,7 @@ private:
     bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
     bool sharesPass_ = false;      // this pass teaches pathTracer_ its connection shares
     bool splitting_ = false;       // this render's samples take the one-event split (beginPass)
+    bool checkingDirect_ = false;  // this pass checks direct_'s factor with Sobol numbers (the split)
     mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
     // Passes before the bidirectional tracer's own: the guide's training passes (16, or fewer
     // when its records filled up first).

@@ -34,6 +34,18 @@
 // as exact sums, and the image leaves them out once the others far outnumber them
 // (Integrator::leftOut, render/renderer.h finalImage).
 //
+// Sobol numbers (the one-event split only, one_event_split.h). Independent passes cannot show
+// what Sobol numbers give each family: the camera side, stratified per pixel, converges far
+// faster than light tracing, which lands at random pixels. So after the learning passes the
+// split's first kCheckPasses Sobol passes (rendered with κ as learned, and kept in the image)
+// gather both families' alone images again, and the spread of their batches of 1 and 4 passes
+// (allocation_duel.h) gives each family's gain over independent numbers at 4 passes,
+//   G = V(1) / (4·V(4)),
+// and κ ← κ·G_light / G_camera, within [kFloor, 1], from the pass after. (Measured at fixed
+// spp, κ scaled after learning: 0.06× was best in dense fog beside a far light, where light
+// tracing then lost 27× against the path tracer, 0.25× in the forward fog, 1× beside the thin
+// lamp; docs/results.md.)
+//
 // Deterministic: the camera-side image is written by each pixel's own sample; light
 // tracing's lands anywhere and is summed in 64-bit fixed point (order-free); the factor is
 // set at a pass boundary. Saved in checkpoints.
@@ -46,6 +58,7 @@
 #include <string>
 #include <vector>
 
+#include "brume/integrators/allocation_duel.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/state_bytes.h"
 #include "brume/math/vec3.h"
@@ -57,11 +70,23 @@ public:
     static constexpr int kPasses = 4;      // learning passes: two aligned pairs
     static constexpr int kGroups = 9;      // pixel groups of the median
     static constexpr double kFloor = 1.0 / 64.0;
+    static constexpr int kCheckPasses = AllocationDuel::kPasses;  // Sobol passes of the check
 
     // Whether pass `pass` gathers the alone images (call with the pass before it runs).
     bool learning(int pass) const { return pass < kPasses && passes_ == pass; }
+    // Whether pass `pass` (counted as for learning) gathers the alone images of the check with
+    // Sobol numbers (call with the pass before it runs; the one-event split only).
+    bool checking(int pass) const {
+        return passes_ == kPasses && pass >= kPasses && pass - kPasses == checkPasses_ && checkPasses_ < kCheckPasses;
+    }
+    // After a checking pass that completed: its images into the batches; after the last, κ
+    // corrected.
+    void endCheckPass();
     // The factor in force (1 while learning).
     double factor() const { return factor_; }
+    // The check's gains G_camera and G_light (0 until checked).
+    double cameraGain() const { return gain_[0]; }
+    double lightGain() const { return gain_[1]; }
     // How often a sample traces a light subpath where those serve only light tracing (single
     // scattering): as often as light tracing's share, q = max(c, kLeastShare). A technique made
     // q times per sample has q times its density in the weights and 1/q times its variance
@@ -101,6 +126,10 @@ private:
     std::atomic<bool> ready_{false};
     int width_ = 0, height_ = 0;
     int passes_ = 0;  // learning passes completed
+    int checkPasses_ = 0;  // checking passes completed
+    AllocationDuel batches_[2];  // the check's batches: camera side, light tracing (contender 0 each)
+    std::vector<float> weights_;  // the check's pixel weights, 1/(Ī² + 0.01) from the learning passes
+    double gain_[2] = {0, 0};
     double factor_ = 1.0;
     double variance_[2] = {0, 0};
     std::vector<float> camera_;                       // this pass, 3 per pixel

@@ -58,8 +58,8 @@ struct OneEventSplit {
     int width = 0, height = 0;
     double q = 1;      // light subpaths made per sample
     double kappa = 1;  // light tracing's variance-aware factor
-    // Learning passes of κ (direct_light_tracing.h): where the camera family's value of this
-    // sample, weighted within its family alone, is summed.
+    // Learning and checking passes of κ (direct_light_tracing.h): where the camera family's
+    // value of this sample, weighted within its family alone, is summed.
     Spectrum* cameraAlone = nullptr;
 
     // W_C of the path camera → x (in medium m) → point y of light `li`, the camera family's
@@ -78,7 +78,8 @@ struct OneEventSplit {
 
 // The light family of one sample (made with probability q by the caller): a light, an
 // emission from it, x on its ray, connected to the camera and splatted with its weight.
-// `learning`: also its value alone (κ's learning passes).
+// `learning`: also its value alone, counted 1/q (κ's learning and checking passes; every splat
+// then made).
 void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const Sampler& lightSampler, PathStats& stats,
                           SplatList& splats, DirectLightTracing* learning);
 

@@ -250,6 +250,27 @@ TEST_CASE("cli checkpoint: bdpt resumes to the same bytes across its learning pa
     }
 }
 
+// In single scattering beside a point light bdpt renders by the one-event split
+// (one_event_split.h): 4 learning passes, then 8 Sobol passes that check light tracing's factor
+// (direct_light_tracing.h). Stopped inside either, at their ends and after, it resumes to the
+// same bytes.
+TEST_CASE("cli checkpoint: bdpt's single-scattering split resumes to the same bytes across its learning and check",
+          "[cli][checkpoint]") {
+    TempDir dir;
+    const Args common = {data("single_near.gltf"), "--integrator", "bdpt", "--max-depth", "1", "--res", "40x30", "--spp", "20"};
+    const std::string ckpt = dir / "c.ckpt";
+    Result r = run(common + Args{"-o", dir / "straight.pfm", "--stats"});
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("checked with Sobol numbers") != std::string::npos);
+    for (const char* stop : {"2", "4", "7", "12", "14"}) {
+        INFO("stopped after " << stop << " passes");
+        REQUIRE(run(common + Args{"-o", dir / "b.pfm", "--checkpoint", ckpt, "--stop-after-passes", stop}).code == 143);
+        r = run(common + Args{"-o", dir / "b.pfm", "--resume", ckpt, "--threads", "1"});
+        CHECK(r.code == 0);
+        CHECK(readFile(dir / "b.pfm") == readFile(dir / "straight.pfm"));
+    }
+}
+
 TEST_CASE("cli checkpoint: SIGINT and SIGTERM write whole passes and exit with 130 and 143", "[cli][checkpoint]") {
     for (int sig : {SIGINT, SIGTERM}) {
         INFO("signal " << sig);

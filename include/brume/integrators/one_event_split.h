@@ -8,16 +8,16 @@
 //           tracer's strategy C, product sampling where it takes the phase; the walk passes
 //           through the medium there, so C stands alone), or with --connect density by free
 //           flight, and y the light;
-//   light:  light tracing: a ray from y through x, x placed on it equi-angularly towards the
-//           pinhole (the camera as a point light), or with --connect density by free flight,
-//           then connected to the camera;
+//   light:  light tracing: a ray from y through x, x placed on it by free flight and (unless
+//           --connect density) equi-angularly towards the pinhole (the camera as a point
+//           light), power-weighted between the two, then connected to the camera;
 // every other strategy of the tracer (general connections, emitter hits) makes none of them.
 // The generic tracer builds both subpaths' vertex records and weighs every connection over
 // all strategies; in single scattering that machinery cost 1.6x the path tracer's time for
 // the same rays (val_thin_lamp, 128 spp), and with the light subpaths 1.9x. Here the camera
 // family is the path tracer's sample, and the only weight it needs is its family's share.
-// (Light tracing by free flight beside the equi-angular one added a tenth of light tracing's
-// part of the image for twice its rays: left out.)
+// (Light tracing by equi-angular sampling alone cost less, but the fog room's error with it was
+// 1.5x that with free flight beside it, docs/results.md.)
 //
 // The weight. Per unit volume at x, for a light picked with pmf P (the same in both families)
 // and a pinhole whose film is sampled uniformly (camera_importance.h's pdfDir):
@@ -31,8 +31,9 @@
 // value times W_L and 1/q. The weights sum to 1 on every path, so the sum is unbiased whatever
 // π_C and π_L are; they are chosen to be near the densities the families sample with, and cheap
 // where the path tracer asks (once per connection): π_C is the path tracer's own density (on
-// the light side found again with one ray along the camera ray to its first surface), π_L the
-// equi-angular stand-in over [0, ∞) (equiangular.h), which needs no ray.
+// the light side found again with one ray along the camera ray to its first surface), and
+// Σ π_L² that of free flight and the equi-angular stand-in over [0, ∞) (equiangular.h), which
+// need no ray.
 // Paths whose x is on a surface are the camera family's alone (W_C = 1: light tracing here
 // makes none of them).
 #pragma once

@@ -86,10 +86,9 @@ void DirectLightTracing::endPass(const PassSummary& summary) {
 }
 
 void DirectLightTracing::endCheckPass() {
-    if (!ready_.load()) {  // (a pass without samples)
-        ++checkPasses_;
-        return;
-    }
+    // A pass without samples has no images: the check stops there (its batches need every
+    // pass in order), and κ stays as learned.
+    if (!ready_.load()) return;
     const size_t n = camera_.size();
     if (weights_.size() != n) weights_.assign(n, 1.0f);
     std::vector<float> lightImage(n);

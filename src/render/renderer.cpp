@@ -2,6 +2,8 @@
 
 #include "brume/film/pixel_noise.h"
 #include "brume/integrators/sample_dimensions.h"
+#include "brume/sampling/inverse_distance.h"
+#include "brume/scene/light_pixels.h"
 
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -89,6 +91,9 @@ private:
     double noise_ = -1, activeShare_ = 1, secondsLeft_ = -1;
 };
 
+// The largest float below 1: a film position stays inside its pixel.
+constexpr float kBelowOne = 0x1.fffffep-1f;
+
 // The worker pool for one render() call.
 class PassRunner {
 public:
@@ -103,7 +108,8 @@ public:
           tilesX_((options.width + kTileSize - 1) / kTileSize),
           tilesY_((options.height + kTileSize - 1) / kTileSize),
           radiance_(size_t(options.width) * size_t(options.height)),
-          tileCounters_(size_t(tileCount())) {
+          tileCounters_(size_t(tileCount())),
+          lightPixels_(scene, options.lightPixels ? options.width : 0, options.lightPixels ? options.height : 0) {
         if (splatter_) tileSplats_.resize(size_t(tileCount()));
         threads_.reserve(threadCount);
         try {
@@ -250,10 +256,24 @@ private:
                 }
                 Sampler sampler(options_.seed, uint64_t(y) * uint64_t(width) + uint64_t(x), passIndex_, passSampler_);
                 Sample2 jitter = sampler.get2D(dim::kFilmJitter);
-                float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
+                // Where a point light in fog is imaged, the film position is drawn in
+                // proportion to 1/(distance to the image) from the same numbers, and the
+                // camera side's value weighted 1/p = Z·|x − c| (the pixel's area is 1):
+                // uniform positions give that pixel infinite variance (inverse_distance.h).
+                // Splats are the light side's own samples and keep their values.
+                float filmWeight = 1;
+                if (const LightPixel* lp = lightPixels_.find(uint32_t(y) * uint32_t(width) + uint32_t(x))) {
+                    const InverseDistanceSample s = sampleInverseDistance(lp->cx, lp->cy, jitter);
+                    jitter = Sample2{std::min(s.x, kBelowOne), std::min(s.y, kBelowOne)};
+                    filmWeight = s.weight;
+                }
+                const float fx = float(x) + jitter.u, fy = float(y) + jitter.v;
                 Spectrum L = splatter_ ? splatter_->sampleWithSplats(scene_, fx, fy, width, height, sampler,
                                                                      counters.path, tileSplats_[size_t(tile)])
                                        : integrator_.sample(scene_, fx, fy, width, height, sampler, counters.path);
+                // (A weight of 0, the image itself, is a point of measure zero: its value may
+                // be unbounded there and is not counted.)
+                if (filmWeight != 1) L = filmWeight > 0 ? L * filmWeight : Spectrum(0.0f);
                 ++counters.samples;
                 // A dropped sample adds +0, which leaves every sum as it was (sums start at +0
                 // and so are never -0, the one value x + 0 changes).
@@ -277,6 +297,7 @@ private:
     const std::vector<uint8_t>* active_ = nullptr;  // the pixels taking part (null: all)
     int activeCount_ = 0;
     std::vector<TileCounters> tileCounters_;
+    const LightPixels lightPixels_;  // where the film position is drawn by inverse distance
     std::vector<SplatList> tileSplats_;   // one per tile, merged in tile order
     std::vector<std::thread> threads_;
 

@@ -13,6 +13,7 @@
 #include "brume/render/renderer.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_pixels.h"
+#include "brume/sampling/inverse_distance.h"
 #include "support/pixel_estimates.h"
 #include "support/single_scatter_reference.h"
 
@@ -143,4 +144,36 @@ TEST_CASE("light pixels: pixel values are the pixel integrals, with a fraction o
     INFO("light's pixel, spread over renders: inverse distance " << warped[centre].stderror(0) << ", uniform "
                                                                  << uniform[centre].stderror(0));
     CHECK(warped[centre].stderror(0) < 0.25 * uniform[centre].stderror(0));
+}
+
+// The camera's density that the one-event split reads (lightPixelDensity) is the renderer's:
+// relative to uniform, it averages to 1 over each pixel around the image, is what the
+// sampler says it draws there, and is 1 elsewhere.
+TEST_CASE("light pixels: the film density the weights read is the one the renderer draws", "[light-pixels]") {
+    auto scene = loadTestScene("single_near.gltf");
+    const Camera& cam = scene->camera();
+    CameraConnection cc;
+    REQUIRE(connectToCamera(cam, kLight, W, W, &cc));
+    const LightPixels lp(*scene, W, W);
+    Rng rng(5, 5);
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x) {
+            const LightPixel* p = lp.find(uint32_t(y * W + x));
+            double mean = 0;
+            const int n = 4000;
+            for (int i = 0; i < n; ++i) {
+                const Sample2 u = rng.next2D();
+                const Ray r = cam.generateRay(float(x) + u.u, float(y) + u.v, W, W);
+                const float m = lightPixelDensity(cam, r.o + r.d * 2.0f, kLight, W, W);
+                mean += m / n;
+                if (p) {
+                    INFO("pixel (" << x << ", " << y << "), film position (" << u.u << ", " << u.v << ")");
+                    CHECK(m == Approx(inverseDistancePdf(p->cx, p->cy, u.u, u.v)).epsilon(2e-3));
+                } else {
+                    CHECK(m == 1.0f);
+                }
+            }
+            INFO("pixel (" << x << ", " << y << ")");
+            CHECK(mean == Approx(1.0).epsilon(p && x == int(cc.fx) && y == int(cc.fy) ? 0.1 : 0.05));
+        }
 }

@@ -15,6 +15,7 @@
 #include "brume/sampling/hg.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
+#include "brume/scene/light_pixels.h"
 
 namespace brume {
 
@@ -54,7 +55,9 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
     const Vec3 toX = x - c, fromLight = x - y;
     const float sc = length(toX), sl = length(fromLight);
     if (!(sc > 0) || !(sl > 0)) return 1.0f;
-    const double pc = double(cameraPdfDir(cam, toX / sc, width, height)) / (double(sc) * sc) * cameraDensity;
+    // (Around the light's image the film positions are drawn by inverse distance, light_pixels.h.)
+    const double pc = double(cameraPdfDir(cam, toX / sc, width, height)) * lightPixelDensity(cam, x, y, width, height) /
+                      (double(sc) * sc) * cameraDensity;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
     emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "brume/sampling/inverse_distance.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/scene.h"
 
@@ -37,6 +38,14 @@ const LightPixel* LightPixels::find(uint32_t pixel) const {
     auto it = std::lower_bound(pixels_.begin(), pixels_.end(), pixel,
                                [](const LightPixel& a, uint32_t p) { return a.pixel < p; });
     return it != pixels_.end() && it->pixel == pixel ? &*it : nullptr;
+}
+
+float lightPixelDensity(const Camera& camera, Vec3 x, Vec3 light, int width, int height) {
+    CameraConnection cx, cl;
+    if (!connectToCamera(camera, x, width, height, &cx) || !connectToCamera(camera, light, width, height, &cl)) return 1.0f;
+    const float px = std::floor(cx.fx), py = std::floor(cx.fy);
+    if (std::abs(px - std::floor(cl.fx)) > 1 || std::abs(py - std::floor(cl.fy)) > 1) return 1.0f;
+    return inverseDistancePdf(cl.fx - px, cl.fy - py, cx.fx - px, cx.fy - py);
 }
 
 }  // namespace brume

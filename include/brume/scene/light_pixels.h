@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "brume/math/vec3.h"
+#include "brume/scene/camera.h"
+
 namespace brume {
 
 class Scene;
@@ -31,5 +34,12 @@ private:
     int width_, height_;
     std::vector<LightPixel> pixels_;  // by pixel
 };
+
+// The density of the film position that sees point x, relative to uniform, when a light at
+// `light` is imaged in fog: 1/(Z·|x' − c|) in the 3 × 3 pixels around the image c (x' the
+// film position of x, in those pixels' coordinates), 1 elsewhere and when either is off the
+// film. For weights that read the camera's density of a point (one_event_split.h); with
+// several lights it follows the given light's image alone.
+float lightPixelDensity(const Camera& camera, Vec3 x, Vec3 light, int width, int height);
 
 }  // namespace brume

@@ -146,14 +146,13 @@ TEST_CASE("light pixels: pixel values are the pixel integrals, with a fraction o
     CHECK(warped[centre].stderror(0) < 0.25 * uniform[centre].stderror(0));
 }
 
-// The camera's density that the one-event split reads (lightPixelDensity) is the renderer's:
-// relative to uniform, it averages to 1 over each pixel around the image, is what the
-// sampler says it draws there, and is 1 elsewhere.
+// The camera's density that the one-event split reads (LightPixels::density) is the
+// renderer's: relative to uniform, it averages to 1 over each pixel around the image, is what
+// the sampler says it draws there, and is 1 elsewhere.
 TEST_CASE("light pixels: the film density the weights read is the one the renderer draws", "[light-pixels]") {
     auto scene = loadTestScene("single_near.gltf");
-    const Camera& cam = scene->camera();
     CameraConnection cc;
-    REQUIRE(connectToCamera(cam, kLight, W, W, &cc));
+    REQUIRE(connectToCamera(scene->camera(), kLight, W, W, &cc));
     const LightPixels lp(*scene, W, W);
     Rng rng(5, 5);
     for (int y = 0; y < W; ++y)
@@ -163,8 +162,7 @@ TEST_CASE("light pixels: the film density the weights read is the one the render
             const int n = 4000;
             for (int i = 0; i < n; ++i) {
                 const Sample2 u = rng.next2D();
-                const Ray r = cam.generateRay(float(x) + u.u, float(y) + u.v, W, W);
-                const float m = lightPixelDensity(cam, r.o + r.d * 2.0f, kLight, W, W);
+                const float m = lp.density(float(x) + u.u, float(y) + u.v);
                 mean += m / n;
                 if (p) {
                     INFO("pixel (" << x << ", " << y << "), film position (" << u.u << ", " << u.v << ")");
@@ -176,4 +174,6 @@ TEST_CASE("light pixels: the film density the weights read is the one the render
             INFO("pixel (" << x << ", " << y << ")");
             CHECK(mean == Approx(1.0).epsilon(p && x == int(cc.fx) && y == int(cc.fy) ? 0.1 : 0.05));
         }
+    CHECK(lp.density(-0.5f, 3.0f) == 1.0f);
+    CHECK(lp.density(float(W), 3.0f) == 1.0f);
 }

@@ -368,9 +368,22 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
 // The camera family: the path tracer's sample with W_C; the light family: light tracing, made
 // with probability q by a number of the image-wide sequence (as the light subpaths of the
 // generic tracer), with W_L; κ and q as the generic tracer has them (direct_light_tracing.h).
+const LightPixels* BdptIntegrator::lightPixelsFor(const Scene& scene, int width, int height) const {
+    const LightPixels* t = lightPixels_.load(std::memory_order_acquire);
+    if (t && t->madeFor(&scene, width, height)) return t;
+    std::lock_guard<std::mutex> lock(lightPixelsMaking_);
+    t = lightPixels_.load(std::memory_order_acquire);
+    if (t && t->madeFor(&scene, width, height)) return t;
+    lightPixelTables_.push_back(std::make_unique<LightPixels>(scene, width, height));
+    t = lightPixelTables_.back().get();
+    lightPixels_.store(t, std::memory_order_release);
+    return t;
+}
+
 Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                                      PathStats& stats, SplatList& splats) const {
     OneEventSplit split;
+    split.lightPixels = lightPixelsFor(scene, width, height);
     split.mode = options_.connect;
     split.width = width;
     split.height = height;

@@ -55,9 +55,12 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
     const Vec3 toX = x - c, fromLight = x - y;
     const float sc = length(toX), sl = length(fromLight);
     if (!(sc > 0) || !(sl > 0)) return 1.0f;
-    // (Around the light's image the film positions are drawn by inverse distance, light_pixels.h.)
-    const double pc = double(cameraPdfDir(cam, toX / sc, width, height)) * lightPixelDensity(cam, x, y, width, height) /
-                      (double(sc) * sc) * cameraDensity;
+    // (Around a light's image the film positions are drawn by inverse distance, light_pixels.h.)
+    double film = 1;
+    CameraConnection cx;
+    if (lightPixels && !lightPixels->empty() && connectToCamera(cam, x, width, height, &cx))
+        film = lightPixels->density(cx.fx, cx.fy);
+    const double pc = double(cameraPdfDir(cam, toX / sc, width, height)) * film / (double(sc) * sc) * cameraDensity;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
     emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);

@@ -19,6 +19,12 @@ LightPixels::LightPixels(const Scene& scene, int width, int height) : scene_(&sc
         if (!m || isBlack(m->sigmaS)) continue;
         CameraConnection cc;
         if (!connectToCamera(scene.camera(), light.position, width, height, &cc)) continue;
+        // A light hidden behind a surface has no singular pixel: the rays near its line of sight
+        // stop before they pass it, and the weights would only add noise there. (With invisible
+        // medium boundaries, which such a query would count as blockers, it is kept.)
+        if (!scene.hasInvisibleBoundaries() &&
+            scene.occluded(Ray{scene.camera().position, -cc.wi, cc.dist * (1.0f - 1e-4f)}))
+            continue;
         // The pixel that holds the image, and its eight neighbours: next to the image a pixel's
         // integrand is still ∝ 1/|x − c|, c just outside it (a light imaged near a pixel's
         // corner is nearly singular in all four).
@@ -40,12 +46,11 @@ const LightPixel* LightPixels::find(uint32_t pixel) const {
     return it != pixels_.end() && it->pixel == pixel ? &*it : nullptr;
 }
 
-float lightPixelDensity(const Camera& camera, Vec3 x, Vec3 light, int width, int height) {
-    CameraConnection cx, cl;
-    if (!connectToCamera(camera, x, width, height, &cx) || !connectToCamera(camera, light, width, height, &cl)) return 1.0f;
-    const float px = std::floor(cx.fx), py = std::floor(cx.fy);
-    if (std::abs(px - std::floor(cl.fx)) > 1 || std::abs(py - std::floor(cl.fy)) > 1) return 1.0f;
-    return inverseDistancePdf(cl.fx - px, cl.fy - py, cx.fx - px, cx.fy - py);
+float LightPixels::density(float fx, float fy) const {
+    if (pixels_.empty() || !(fx >= 0) || !(fy >= 0) || fx >= float(width_) || fy >= float(height_)) return 1.0f;
+    const float px = std::floor(fx), py = std::floor(fy);
+    const LightPixel* p = find(uint32_t(py) * uint32_t(width_) + uint32_t(px));
+    return p ? inverseDistancePdf(p->cx, p->cy, fx - px, fy - py) : 1.0f;
 }
 
 }  // namespace brume

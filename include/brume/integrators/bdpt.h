@@ -3,11 +3,15 @@
 // MIS over all of them with densities that include the free-flight sampling in both
 // directions (bdpt_mis.h). docs/mis.md derives the weights.
 #pragma once
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/mis.h"
 #include "brume/integrators/path_tracer.h"
+#include "brume/scene/light_pixels.h"
 
 namespace brume {
 
@@ -164,6 +168,13 @@ private:
     // still learnt: its allocation is the path tracer's for good (after the planner's
     // choice), or it is one of the path tracer's last duel passes.
     bool sharesPassAt(int pass) const;
+    // The pixels around a light's image (light_pixels.h) for this render's scene and film,
+    // which the split's weights read: made by the first sample that asks, and kept while the
+    // tracer lives (so that a pointer read by one thread stays valid).
+    const LightPixels* lightPixelsFor(const Scene& scene, int width, int height) const;
+    mutable std::mutex lightPixelsMaking_;
+    mutable std::atomic<const LightPixels*> lightPixels_{nullptr};
+    mutable std::vector<std::unique_ptr<LightPixels>> lightPixelTables_;
     // A sample by the one-event split (one_event_split.h).
     Spectrum sampleSplit(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                          PathStats& stats, SplatList& splats) const;

@@ -41,6 +41,7 @@
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/scene/light.h"
+#include "brume/scene/light_pixels.h"
 #include "brume/scene/medium.h"
 
 namespace brume {
@@ -60,6 +61,8 @@ struct OneEventSplit {
     int width = 0, height = 0;
     double q = 1;      // light subpaths made per sample
     double kappa = 1;  // light tracing's variance-aware factor
+    // Where the renderer draws film positions by inverse distance (null: nowhere).
+    const LightPixels* lightPixels = nullptr;
     // Learning and checking passes of κ (direct_light_tracing.h): where the camera family's
     // value of this sample, weighted within its family alone, is summed.
     Spectrum* cameraAlone = nullptr;

@@ -5,9 +5,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "brume/math/vec3.h"
-#include "brume/scene/camera.h"
-
 namespace brume {
 
 class Scene;
@@ -20,10 +17,15 @@ struct LightPixel {
 class LightPixels {
 public:
     // Every point or spot light with a scattering medium around it that projects onto the film
-    // [0, width) × [0, height) (in front of the camera): the pixel of its image and the eight
-    // around it; where two lights share a pixel, the first.
+    // [0, width) × [0, height) (in front of the camera), unless a surface hides it from the
+    // camera: the pixel of its image and the eight around it; where two lights share a pixel,
+    // the first.
     LightPixels(const Scene& scene, int width, int height);
     const LightPixel* find(uint32_t pixel) const;  // null when no light's image lies there
+    // The density of film position (fx, fy) (in pixels) relative to uniform, as the renderer
+    // draws it: 1/(Z·|x − c|) in these pixels, 1 elsewhere. For weights that read the camera's
+    // density of a point (one_event_split.h).
+    float density(float fx, float fy) const;
     bool empty() const { return pixels_.empty(); }
     bool madeFor(const Scene* scene, int width, int height) const {
         return scene == scene_ && width == width_ && height == height_;
@@ -34,12 +36,5 @@ private:
     int width_, height_;
     std::vector<LightPixel> pixels_;  // by pixel
 };
-
-// The density of the film position that sees point x, relative to uniform, when a light at
-// `light` is imaged in fog: 1/(Z·|x' − c|) in the 3 × 3 pixels around the image c (x' the
-// film position of x, in those pixels' coordinates), 1 elsewhere and when either is off the
-// film. For weights that read the camera's density of a point (one_event_split.h); with
-// several lights it follows the given light's image alone.
-float lightPixelDensity(const Camera& camera, Vec3 x, Vec3 light, int width, int height);
 
 }  // namespace brume

@@ -55,12 +55,14 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
     const Vec3 toX = x - c, fromLight = x - y;
     const float sc = length(toX), sl = length(fromLight);
     if (!(sc > 0) || !(sl > 0)) return 1.0f;
-    // (Around a light's image the film positions are drawn by inverse distance, light_pixels.h.)
-    double film = 1;
+    // pdfDir = We·cosθ (camera_importance.h), from the one projection of x onto the film, which
+    // also gives the film density around a light's image (drawn by inverse distance there,
+    // light_pixels.h); 0 off the film.
     CameraConnection cx;
-    if (lightPixels && !lightPixels->empty() && connectToCamera(cam, x, width, height, &cx))
-        film = lightPixels->density(cx.fx, cx.fy);
-    const double pc = double(cameraPdfDir(cam, toX / sc, width, height)) * film / (double(sc) * sc) * cameraDensity;
+    double pdfDir = 0;
+    if (connectToCamera(cam, x, width, height, &cx))
+        pdfDir = double(cx.We) * -double(dot(cx.wi, cam.forward)) * (lightPixels ? double(lightPixels->density(cx.fx, cx.fy)) : 1.0);
+    const double pc = pdfDir / (double(sc) * sc) * cameraDensity;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
     emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);

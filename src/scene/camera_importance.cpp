@@ -18,7 +18,14 @@ struct FilmPlane {
 FilmPlane filmPlane(const Camera& cam, int width, int height) {
     FilmPlane f;
     if (width <= 0 || height <= 0) return f;
-    float tanY = std::tan(0.5f * cam.yfov);
+    // (tan of the last field of view asked, per thread: light tracing asks once per splat and
+    // its weights several times more, always with the same camera.)
+    thread_local float lastYfov = std::numeric_limits<float>::quiet_NaN(), lastTanY = 0;
+    if (!(cam.yfov == lastYfov)) {
+        lastYfov = cam.yfov;
+        lastTanY = std::tan(0.5f * cam.yfov);
+    }
+    float tanY = lastTanY;
     float tanX = tanY * float(width) / float(height);
     f.tanX = tanX;
     f.tanY = tanY;

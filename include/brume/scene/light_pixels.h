@@ -1,6 +1,7 @@
 // The pixels that hold the image of a point or spot light inside a scattering medium, and
-// where in the pixel the image lies: there the camera draws its film position in proportion
-// to 1/|x − c| (inverse_distance.h says why; path_tracer.cpp, the camera ray).
+// where in the pixel the image lies: there the renderer draws the film position in proportion
+// to 1/|x − c| (sampling/inverse_distance.h says why; render/renderer.cpp draws it). A light
+// seen only through glass counts as hidden (the occlusion query stops at the glass).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -19,8 +19,8 @@
 // bounds target / proposal everywhere (variance within 1.5× of the ideal on every span tried,
 // where plain equi-angular is up to 160× off at g = 0.99); g = 0 gives α = 1, plain equi-angular.
 // So does |g| < kPlainBelow: at g = 0.1 (single scattering, pt, relative variance from seed
-// pairs) plain equi-angular had 1/3.3–1/7 of the product's in the fog room at 16–200 spp,
-// 1/1.4–1/1.6 on the thin lamp made g = 0.1 and 1/1.02–1/1.08 on the doorway made g = 0.1; at
+// pairs) plain equi-angular had 1/2.4–1/6.6 of the product's in the fog room at 16–200 spp,
+// 1/1.5–1/1.6 on the thin lamp made g = 0.1 and 1/1.02–1/1.08 on the doorway made g = 0.1; at
 // g = 0.2 the fog room still 1/1.3–1/1.6 and the thin lamp even; at 0.3 the product 1.4–1.6×
 // better on both (docs/results.md). The phase part's share of u is sampled as a second turn
 // of t (equiangular.cpp), which Sobol numbers stratify poorly when it is small.

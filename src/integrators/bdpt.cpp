@@ -365,9 +365,6 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     return L;
 }
 
-// The camera family: the path tracer's sample with W_C; the light family: light tracing, made
-// with probability q by a number of the image-wide sequence (as the light subpaths of the
-// generic tracer), with W_L; κ and q as the generic tracer has them (direct_light_tracing.h).
 const LightPixels* BdptIntegrator::lightPixelsFor(const Scene& scene, int width, int height) const {
     const LightPixels* t = lightPixels_.load(std::memory_order_acquire);
     if (t && t->madeFor(&scene, width, height)) return t;
@@ -380,6 +377,9 @@ const LightPixels* BdptIntegrator::lightPixelsFor(const Scene& scene, int width,
     return t;
 }
 
+// The camera family: the path tracer's sample with W_C; the light family: light tracing, made
+// with probability q by a number of the image-wide sequence (as the light subpaths of the
+// generic tracer), with W_L; κ and q as the generic tracer has them (direct_light_tracing.h).
 Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                                      PathStats& stats, SplatList& splats) const {
     OneEventSplit split;

@@ -38,11 +38,11 @@ double offsetAt(HalfAngle h, double D) {
 HgAngle makeHgAngle(double g, HalfAngle end0, HalfAngle end1) {
     HgAngle p;
     const double ag = std::min(std::abs(g), 0.9999);
-    if (!(ag > 0)) return p;
-    // Below kPlainBelow plain equi-angular (α = 1): there HG varies by at most
+    // Below kPlainBelow plain equi-angular (α = 1), as at g = 0: there HG varies by at most
     // ((1 + |g|)/(1 − |g|))³ ≈ 2.5 over a ray, and the phase part's share of u, sampled as a
     // second turn of t, costs more of the Sobol numbers' stratification than it gives (hg_angle.h).
-    p.alpha = ag < kPlainBelow ? 1.0 : std::max(1.0 - ag, 0.1);
+    if (!(ag >= kPlainBelow)) return p;
+    p.alpha = std::max(1.0 - ag, 0.1);
     p.mirror = g < 0;
     p.c = 1.0 - ag;
     p.k = 4.0 * ag;

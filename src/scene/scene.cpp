@@ -158,6 +158,7 @@ Scene::Scene(SceneDescription desc) : desc_(std::move(desc)) {
     std::vector<float> power(lights_.size());
     for (size_t i = 0; i < lights_.size(); ++i) power[i] = lights_[i].power = lightPower(*this, lights_[i]);
     lightDistribution_ = Distribution1D(power);
+    lightSelection_ = LightSelection(lights_, lightDistribution_);
     for (const Light& l : lights_) {
         hasHittableLights_ |= l.kind == LightKind::Triangle || l.kind == LightKind::Sphere;
         hasDirectionalLights_ |= l.kind == LightKind::Directional;

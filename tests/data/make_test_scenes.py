@@ -147,6 +147,29 @@ def area_quad(name):
     return b.write(out(name))
 
 
+def many_lights(name):
+    """Quadrature oracle for picks by where a connection starts (light_selection.h): a point
+    light near the camera (intensity 10), a bright one out of view far off (intensity 1000:
+    97% of the power, so power's picks and the picks by position differ 30x for the others),
+    single_spot's spot (intensity 30) and area_quad's one-sided quad (radiance 40 here, two
+    triangles) in single-scattering fog. No light can shadow another on a connection from a
+    camera ray (the quad is above the view and every other light below it), so the reference
+    is the sum of each light's. See test_light_selection."""
+    b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
+    camera_at_origin(b, SINGLE_YFOV)
+    b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
+    b.add_light("near", "point", (1.0, 1.0, 1.0), POINT_INTENSITY, translation=(0.3, 0.2, -1.5))
+    b.add_light("bright", "point", (1.0, 1.0, 1.0), 1000.0, translation=(-12.0, -0.5, -20.0))
+    down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
+    b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
+                inner_cone=0.2, outer_cone=0.4)
+    emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
+                             emissive=(5.0, 5.0, 5.0), emissive_strength=8.0)
+    pos, nrm, uvs, idx = g.quad((0.0, 2.0, -3.0), (0.5, 0.0, 0.0), (0.0, 0.0, 0.5))
+    b.add_node("quad_light", mesh=b.add_mesh("quad_light", pos, idx, normals=nrm, material=emitter))
+    return b.write(out(name))
+
+
 TOP_SLOPE = math.tan(0.5 * SINGLE_YFOV)  # the top of the view: y = TOP_SLOPE * (-z)
 
 
@@ -572,6 +595,8 @@ def main():
         # Sphere light partly in view (test_pt_area_oracles).
         single("area_sphere.gltf", (0.8, 0.5, -3.0), radius=0.3),
         area_quad("area_quad.gltf"),
+        # Five lights of three kinds (test_light_selection).
+        many_lights("many_lights.gltf"),
         # Large one-sided rectangles a few centimetres from the view rays (solid-angle sampling).
         area_rectangles_close("area_rectangles_close.gltf"),
         # Dense fog (mean free path 0.4 m, light 3 m away) and a light exactly on the central

@@ -10,6 +10,7 @@
 #include "brume/math/ray.h"
 #include "brume/sampling/distribution1d.h"
 #include "brume/scene/bsdf.h"
+#include "brume/scene/light_selection.h"
 #include "brume/scene/scene_description.h"
 #include "brume/scene/volume_lights.h"
 
@@ -56,6 +57,8 @@ public:
     const Camera& camera() const { return desc_.camera; }
     const std::vector<Light>& lights() const { return lights_; }
     const Distribution1D& lightDistribution() const { return lightDistribution_; }
+    // Picks by where a connection starts (light_selection.h); power's where that does not apply.
+    const LightSelection& lightSelection() const { return lightSelection_; }
     const Medium* medium(int index) const { return index >= 0 ? &desc_.media[index] : nullptr; }
     int mediumIndex(const Medium* m) const { return m ? int(m - desc_.media.data()) : -1; }
     const Material& material(int mesh) const { return desc_.materials[desc_.meshes[mesh].material]; }
@@ -137,6 +140,7 @@ private:
     bool hasDirectionalLights_ = false;
     bool hasTriangleLights_ = false;  // per mesh, -1 if not emissive
     Distribution1D lightDistribution_;
+    LightSelection lightSelection_;
     VolumeLights volumeLights_;
     Vec3 boundsCenter_;
     float boundsRadius_ = 0;

@@ -1,0 +1,88 @@
+// Which light a connection goes to, chosen by where it starts: from a point x, in proportion to
+// what each light would give x unoccluded; along a ray segment, to what it would give the
+// segment's points. Power alone (Scene::lightDistribution) picks the far lamps of a street as
+// often as the near one, whose light a point in the fog mostly gets.
+//
+// Weights (grey intensities; unoccluded, no transmittance, no phase function):
+// - a point x and a point, sphere or spot light at p of intensity I: I·spot(x)/|x − p|² (the
+//   squared distance at least r² for a sphere);
+// - a point x and an emissive triangle or rectangle of power Φ, area A, normal n, centre p:
+//   (Φ/π)·cos⁺(n, x − p)/max(|x − p|², A) (|cos| for a two-sided one), its radiance times the
+//   solid angle it subtends from far away;
+// - a segment o + t·d, t ∈ [0, t1], and a light seen as a point p of intensity I (a spot
+//   without its cone; a planar emitter with (Φ/π)·cos⁺ towards the segment's point nearest p):
+//   ∫ I/|o + t·d − p|² dt = I·(θ1 − θ0)/D, D the distance from p to the ray's line (at least
+//   the light's size), θ the angles of the ends seen from p's foot on the line (the integral
+//   equi-angular sampling inverts).
+// The pick is 0.1·(power's pmf) + 0.9·(the weight's share), so no light that power would reach
+// gets a pick near 0 from a weight that overlooks it (an occluder, the spot's cone along a
+// segment): any choice with that floor is unbiased, the weights only steer it.
+//
+// Used where every pick is cheap to weigh again: 2 to kMaxLights lights, none directional
+// (whose irradiance has no distance to compare); otherwise every function below returns
+// power's pick, bit for bit as lightDistribution(). The sums over the lights of the last point
+// and the last segment are kept per thread: a path weighs the same point or segment several
+// times (its own pick, then each other technique's density of it).
+#pragma once
+#include <cstdint>
+#include <vector>
+#include "brume/math/vec3.h"
+#include "brume/sampling/distribution1d.h"
+
+namespace brume {
+
+struct Light;
+
+class LightSelection {
+public:
+    static constexpr int kMaxLights = 32;
+
+    LightSelection() = default;
+    LightSelection(const std::vector<Light>& lights, const Distribution1D& power);
+
+    // Whether picks depend on where they start (else they are power's).
+    bool spatial() const { return spatial_; }
+
+    // From a point x: the light for u ∈ [0, 1), and *pmf its probability.
+    int sampleAt(Vec3 x, float u, float* pmf) const;
+    float pmfAt(Vec3 x, int light) const;
+
+    // Along the segment o + t·d, t ∈ [0, tEnd] (d unit; tEnd may be +∞).
+    int sampleAlong(Vec3 o, Vec3 d, float tEnd, float u, float* pmf) const;
+    float pmfAlong(Vec3 o, Vec3 d, float tEnd, int light) const;
+
+    // The unnormalised weights (above) of every light, for tests.
+    std::vector<float> weightsAt(Vec3 x) const;
+    std::vector<float> weightsAlong(Vec3 o, Vec3 d, float tEnd) const;
+
+private:
+    // What the weights read, light by light, as arrays the loops below run through. The two
+    // halves of a rectangle (Light::partner) share its centre and area, so they get the same
+    // pick (light_sampling.h's P(rectangle)/P(light) stays 2 wherever the pick starts).
+    struct Sources {
+        std::vector<float> px, py, pz;  // position or emitter centre
+        std::vector<float> nx, ny, nz;  // planar: unit normal; spot: axis
+        std::vector<float> intensity;   // grey I, or L·A (Φ/π of one side) for a planar emitter
+        std::vector<float> minD2;       // smallest squared distance a weight uses
+        std::vector<uint8_t> kind;      // 0 point or sphere, 1 spot, 2 one-sided, 3 two-sided planar
+        std::vector<float> planar;      // 1 for a planar emitter, 0 for others (the segment loop)
+        std::vector<float> power;       // power's pmf
+        std::vector<const Light*> light;
+    };
+    void weightsAt(Vec3 x, float* w) const;
+    void weightsAlong(Vec3 o, Vec3 d, float tEnd, float* w) const;
+    struct Table;  // the picks' cumulative sums for one point or segment (light_selection.cpp)
+    const Table& tableAt(Vec3 x) const;
+    const Table& tableAlong(Vec3 o, Vec3 d, float tEnd) const;
+    void fill(Table& t, const float* w, bool pointLikeOnly) const;
+    int sample(const Table& t, float u, float* pmf) const;
+    float pmf(const Table& t, int light) const;
+
+    Sources src_;
+    int count_ = 0;
+    const Distribution1D* power_ = nullptr;
+    bool spatial_ = false;
+    uint64_t id_ = 0;  // tells this selection's kept sums from another's
+};
+
+}  // namespace brume

@@ -1,0 +1,197 @@
+#include "brume/scene/light_selection.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "brume/math/fast_atan.h"
+#include "brume/scene/light.h"
+
+namespace brume {
+
+namespace {
+
+// The floor of power's pmf in every pick (light_selection.h).
+constexpr double kPowerShare = 0.1;
+
+enum : uint8_t { kPointKind = 0, kSpotKind = 1, kOneSided = 2, kTwoSided = 3 };
+
+float grey(const Spectrum& s) { return (s.x + s.y + s.z) / 3.0f; }
+
+// atan(x) for any x, without branches (fast_atan.h's polynomial; ±π/2 for ±∞).
+inline float atanAny(float x) {
+    constexpr float kHalfPi = 1.57079632679f;
+    const float ax = std::fabs(x);
+    const float a0 = atanUnit(std::min(ax, 1.0f / ax));  // (1/0 = ∞: both computed, no branch)
+    const float a = ax > 1.0f ? kHalfPi - a0 : a0;
+    return std::copysign(a, x);
+}
+
+}  // namespace
+
+struct LightSelection::Table {
+    uint64_t owner = 0;  // LightSelection::id_ (0: empty)
+    float key[7] = {};
+    double cdf[kMaxLights] = {};  // cdf[i] = P(pick ≤ i)
+};
+
+LightSelection::LightSelection(const std::vector<Light>& lights, const Distribution1D& power) : power_(&power) {
+    static std::atomic<uint64_t> next{1};
+    id_ = next++;
+    if (lights.size() < 2 || lights.size() > size_t(kMaxLights) || power.empty()) return;
+    for (const Light& l : lights)
+        if (l.atInfinity()) return;
+    for (size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        const bool planar = l.isPlanar();
+        const Vec3 p = planar ? l.emitterCentre : l.position;
+        const Vec3 n = planar ? l.shape.n : l.direction;
+        src_.px.push_back(p.x), src_.py.push_back(p.y), src_.pz.push_back(p.z);
+        src_.nx.push_back(n.x), src_.ny.push_back(n.y), src_.nz.push_back(n.z);
+        src_.intensity.push_back(planar ? l.power / kPi / (l.doubleSided ? 2.0f : 1.0f) : grey(l.intensity));
+        src_.minD2.push_back(std::max(planar ? l.emitterArea : l.radius * l.radius, 1e-8f));
+        src_.kind.push_back(planar ? (l.doubleSided ? kTwoSided : kOneSided) : l.kind == LightKind::Spot ? kSpotKind : kPointKind);
+        src_.planar.push_back(planar ? 1.0f : 0.0f);
+        src_.power.push_back(power.pmf(int(i)));
+        src_.light.push_back(&l);
+    }
+    count_ = int(lights.size());
+    spatial_ = true;
+}
+
+// From x: I·spot/max(r², minD2), or L·A·cos⁺/max(r², A).
+void LightSelection::weightsAt(Vec3 x, float* w) const {
+    for (int i = 0; i < count_; ++i) {
+        const float vx = x.x - src_.px[i], vy = x.y - src_.py[i], vz = x.z - src_.pz[i];
+        const float d2 = vx * vx + vy * vy + vz * vz;
+        float wi = src_.intensity[i] / std::max(d2, src_.minD2[i]);
+        if (src_.kind[i] != kPointKind) {
+            const float c = d2 > 0 ? (src_.nx[i] * vx + src_.ny[i] * vy + src_.nz[i] * vz) / std::sqrt(d2) : 1.0f;
+            switch (src_.kind[i]) {
+            case kSpotKind: wi *= spotAttenuation(*src_.light[i], c); break;
+            case kOneSided: wi *= std::max(c, 0.0f); break;
+            default: wi *= std::fabs(c); break;
+            }
+        }
+        w[i] = wi;
+    }
+}
+
+// Along o + t·d, t ∈ [0, tEnd], for point-like lights (planar emitters: 0, fill keeps their
+// power's pick): p's foot on the line at t = Δ, at distance D (at least √minD2);
+// ∫ dt/(D² + (t − Δ)²) over [0, tEnd] = (atan a − atan b)/D, a = (tEnd − Δ)/D, b = −Δ/D. A
+// spot without its cone.
+void LightSelection::weightsAlong(Vec3 o, Vec3 d, float tEnd, float* w) const {
+    // Branch-free, so that the loop runs in vector lanes: an unbounded segment's a = +∞ comes
+    // out of t1 = 1e30 (atan of a huge or infinite argument is π/2); a planar emitter's lane
+    // is computed and zeroed.
+    const float t1 = std::isfinite(tEnd) ? tEnd : 1e30f;
+    const float* __restrict px = src_.px.data();
+    const float* __restrict py = src_.py.data();
+    const float* __restrict pz = src_.pz.data();
+    const float* __restrict inten = src_.intensity.data();
+    const float* __restrict minD2 = src_.minD2.data();
+    const float* __restrict planar = src_.planar.data();
+    for (int i = 0; i < count_; ++i) {
+        const float ex = px[i] - o.x, ey = py[i] - o.y, ez = pz[i] - o.z;
+        const float delta = ex * d.x + ey * d.y + ez * d.z;
+        const float h2 = std::max(ex * ex + ey * ey + ez * ez - delta * delta, minD2[i]);
+        const float invD = 1.0f / std::sqrt(h2);
+        const float angle = atanAny((t1 - delta) * invD) - atanAny(-delta * invD);
+        w[i] = (1.0f - planar[i]) * inten[i] * std::max(angle, 0.0f) * invD;
+    }
+}
+
+std::vector<float> LightSelection::weightsAt(Vec3 x) const {
+    std::vector<float> w(static_cast<size_t>(count_));
+    if (count_ > 0) weightsAt(x, w.data());
+    return w;
+}
+
+std::vector<float> LightSelection::weightsAlong(Vec3 o, Vec3 d, float tEnd) const {
+    std::vector<float> w(static_cast<size_t>(count_));
+    if (count_ > 0) weightsAlong(o, d, tEnd, w.data());
+    return w;
+}
+
+// cdf from the weights w of the lights steered (all, or the point-like ones): a steered light
+// i gets P(i) = P_s·(kPowerShare·power(i)/P_s + (1 − kPowerShare)·w_i/Σw), P_s = the steered
+// lights' power share, so the others keep their power's pick; power alone where every weight
+// is 0 (or the sum overflows).
+void LightSelection::fill(Table& t, const float* w, bool pointLikeOnly) const {
+    double sum = 0, steered = 0;
+    for (int i = 0; i < count_; ++i) {
+        if (pointLikeOnly && src_.planar[size_t(i)] > 0) continue;
+        sum += double(w[i]);
+        steered += src_.power[size_t(i)];
+    }
+    const bool steer = sum > 0 && std::isfinite(sum);
+    double acc = 0;
+    for (int i = 0; i < count_; ++i) {
+        const double p = src_.power[size_t(i)];
+        const bool mine = !(pointLikeOnly && src_.planar[size_t(i)] > 0);
+        acc += steer && mine ? kPowerShare * p + (1.0 - kPowerShare) * steered * double(w[i]) / sum : p;
+        t.cdf[i] = acc;
+    }
+}
+
+// The sums of the last point and the last segment, per thread (light_selection.h).
+const LightSelection::Table& LightSelection::tableAt(Vec3 x) const {
+    thread_local Table t;
+    if (t.owner == id_ && t.key[0] == x.x && t.key[1] == x.y && t.key[2] == x.z) return t;
+    float w[kMaxLights];
+    weightsAt(x, w);
+    fill(t, w, false);
+    t.owner = id_;
+    t.key[0] = x.x, t.key[1] = x.y, t.key[2] = x.z;
+    return t;
+}
+
+const LightSelection::Table& LightSelection::tableAlong(Vec3 o, Vec3 d, float tEnd) const {
+    thread_local Table t;
+    const float key[7] = {o.x, o.y, o.z, d.x, d.y, d.z, tEnd};
+    if (t.owner == id_ && std::equal(key, key + 7, t.key)) return t;
+    float w[kMaxLights];
+    weightsAlong(o, d, tEnd, w);
+    fill(t, w, true);
+    t.owner = id_;
+    std::copy(key, key + 7, t.key);
+    return t;
+}
+
+// The first light whose cdf exceeds u·total (the total is 1 up to rounding), skipping lights
+// of probability 0.
+int LightSelection::sample(const Table& t, float u, float* p) const {
+    const double target = double(u) * t.cdf[count_ - 1];
+    int i = int(std::upper_bound(t.cdf, t.cdf + count_, target) - t.cdf);
+    i = std::min(i, count_ - 1);
+    while (i > 0 && !(t.cdf[i] > t.cdf[i - 1])) --i;
+    *p = pmf(t, i);
+    return i;
+}
+
+float LightSelection::pmf(const Table& t, int i) const {
+    return float((t.cdf[i] - (i > 0 ? t.cdf[i - 1] : 0.0)) / t.cdf[count_ - 1]);
+}
+
+int LightSelection::sampleAt(Vec3 x, float u, float* p) const {
+    if (!spatial_) return power_->sample(u, p);
+    return sample(tableAt(x), u, p);
+}
+
+float LightSelection::pmfAt(Vec3 x, int light) const {
+    if (!spatial_) return power_->pmf(light);
+    return pmf(tableAt(x), light);
+}
+
+int LightSelection::sampleAlong(Vec3 o, Vec3 d, float tEnd, float u, float* p) const {
+    if (!spatial_) return power_->sample(u, p);
+    return sample(tableAlong(o, d, tEnd), u, p);
+}
+
+float LightSelection::pmfAlong(Vec3 o, Vec3 d, float tEnd, int light) const {
+    if (!spatial_) return power_->pmf(light);
+    return pmf(tableAlong(o, d, tEnd), light);
+}
+
+}  // namespace brume

@@ -9,14 +9,17 @@
 // - a point x and an emissive triangle or rectangle of power Φ, area A, normal n, centre p:
 //   (Φ/π)·cos⁺(n, x − p)/max(|x − p|², A) (|cos| for a two-sided one), its radiance times the
 //   solid angle it subtends from far away;
-// - a segment o + t·d, t ∈ [0, t1], and a light seen as a point p of intensity I (a spot
-//   without its cone; a planar emitter with (Φ/π)·cos⁺ towards the segment's point nearest p):
-//   ∫ I/|o + t·d − p|² dt = I·(θ1 − θ0)/D, D the distance from p to the ray's line (at least
-//   the light's size), θ the angles of the ends seen from p's foot on the line (the integral
-//   equi-angular sampling inverts).
-// The pick is 0.1·(power's pmf) + 0.9·(the weight's share), so no light that power would reach
-// gets a pick near 0 from a weight that overlooks it (an occluder, the spot's cone along a
-// segment): any choice with that floor is unbiased, the weights only steer it.
+// - a segment o + t·d, t ∈ [0, t1], and a point, sphere or spot light at p of intensity I (a
+//   spot without its cone): ∫ I/|o + t·d − p|² dt = I·(θ1 − θ0)/D, D the distance from p to
+//   the ray's line (at least the sphere's radius), θ the angles of the ends seen from p's foot
+//   on the line (the integral equi-angular sampling inverts).
+// From a point every light is steered: P(i) = 0.1·power(i) + 0.9·w_i/Σw. Along a segment only
+// the point-like lights are, within their power's share P_s: P(i) = 0.1·power(i) +
+// 0.9·P_s·w_i/Σw; planar emitters keep power's pick there (a large panel close by is far from a
+// point, and its connections' variance, not its mean, is what it needs samples for: steering
+// them too cost the panel room 1.2x its variance). The floor keeps every pick that power would
+// make above a tenth of it, whatever a weight overlooks (an occluder, the spot's cone along a
+// segment): any such choice is unbiased, the weights only steer it.
 //
 // Used where every pick is cheap to weigh again: 2 to kMaxLights lights, none directional
 // (whose irradiance has no distance to compare); otherwise every function below returns

@@ -14,8 +14,6 @@ namespace {
 // The floor of power's pmf in every pick (light_selection.h).
 constexpr double kPowerShare = 0.1;
 
-enum : uint8_t { kPointKind = 0, kSpotKind = 1, kOneSided = 2, kTwoSided = 3 };
-
 float grey(const Spectrum& s) { return (s.x + s.y + s.z) / 3.0f; }
 
 // atan(x) for any x, without branches (fast_atan.h's polynomial; ±π/2 for ±∞).
@@ -50,30 +48,53 @@ LightSelection::LightSelection(const std::vector<Light>& lights, const Distribut
         src_.nx.push_back(n.x), src_.ny.push_back(n.y), src_.nz.push_back(n.z);
         src_.intensity.push_back(planar ? l.power / kPi / (l.doubleSided ? 2.0f : 1.0f) : grey(l.intensity));
         src_.minD2.push_back(std::max(planar ? l.emitterArea : l.radius * l.radius, 1e-8f));
-        src_.kind.push_back(planar ? (l.doubleSided ? kTwoSided : kOneSided) : l.kind == LightKind::Spot ? kSpotKind : kPointKind);
         src_.planar.push_back(planar ? 1.0f : 0.0f);
+        src_.twoSided.push_back(planar && l.doubleSided ? 1.0f : 0.0f);
+        // The spot factor's parameters (weightsAt): glTF's scale and offset, or Cycles' cone.
+        const bool spot = l.kind == LightKind::Spot;
+        const float spotScale = 1.0f / std::max(0.001f, l.cosInner - l.cosOuter);
+        src_.spotScale.push_back(spot && !l.cyclesSpot ? spotScale : 0.0f);
+        src_.spotOffset.push_back(spot && !l.cyclesSpot ? -l.cosOuter * spotScale : 1.0f);
+        src_.cycles.push_back(spot && l.cyclesSpot ? 1.0f : 0.0f);
+        src_.cosOuter.push_back(l.cosOuter);
+        src_.invSmooth.push_back(l.spotSmooth > 0 ? 1.0f / l.spotSmooth : 1e30f);
         src_.power.push_back(power.pmf(int(i)));
-        src_.light.push_back(&l);
     }
     count_ = int(lights.size());
     spatial_ = true;
 }
 
-// From x: I·spot/max(r², minD2), or L·A·cos⁺/max(r², A).
-void LightSelection::weightsAt(Vec3 x, float* w) const {
-    for (int i = 0; i < count_; ++i) {
-        const float vx = x.x - src_.px[i], vy = x.y - src_.py[i], vz = x.z - src_.pz[i];
+// From x: I·spot/max(r², minD2), or L·A·cos⁺/max(r², A). Branch-free as the segment's loop
+// below: every light's cos c is computed; the spot factor is glTF's clamp(c·scale + offset,
+// 0, 1)² (scale 0, offset 1 for lights without a cone) or Cycles' c·smoothstep (spotAttenuation,
+// light.h); the planar factor max(c, −c·twoSided), 1 for lights that are not planar.
+void LightSelection::weightsAt(Vec3 x, float* __restrict w) const {
+    const float* __restrict px = src_.px.data();
+    const float* __restrict py = src_.py.data();
+    const float* __restrict pz = src_.pz.data();
+    const float* __restrict nx = src_.nx.data();
+    const float* __restrict ny = src_.ny.data();
+    const float* __restrict nz = src_.nz.data();
+    const float* __restrict inten = src_.intensity.data();
+    const float* __restrict minD2 = src_.minD2.data();
+    const float* __restrict planar = src_.planar.data();
+    const float* __restrict twoSided = src_.twoSided.data();
+    const float* __restrict scale = src_.spotScale.data();
+    const float* __restrict offset = src_.spotOffset.data();
+    const float* __restrict cycles = src_.cycles.data();
+    const float* __restrict cosOuter = src_.cosOuter.data();
+    const float* __restrict invSmooth = src_.invSmooth.data();
+    const float x0 = x.x, x1 = x.y, x2 = x.z;
+    const int n = count_;
+    for (int i = 0; i < n; ++i) {
+        const float vx = x0 - px[i], vy = x1 - py[i], vz = x2 - pz[i];
         const float d2 = vx * vx + vy * vy + vz * vz;
-        float wi = src_.intensity[i] / std::max(d2, src_.minD2[i]);
-        if (src_.kind[i] != kPointKind) {
-            const float c = d2 > 0 ? (src_.nx[i] * vx + src_.ny[i] * vy + src_.nz[i] * vz) / std::sqrt(d2) : 1.0f;
-            switch (src_.kind[i]) {
-            case kSpotKind: wi *= spotAttenuation(*src_.light[i], c); break;
-            case kOneSided: wi *= std::max(c, 0.0f); break;
-            default: wi *= std::fabs(c); break;
-            }
-        }
-        w[i] = wi;
+        const float c = (nx[i] * vx + ny[i] * vy + nz[i] * vz) / std::sqrt(std::max(d2, 1e-30f));
+        const float g = std::min(std::max(c * scale[i] + offset[i], 0.0f), 1.0f);
+        const float sm = std::min(std::max((c - cosOuter[i]) * invSmooth[i], 0.0f), 1.0f);
+        const float spot = g * g + cycles[i] * (c * sm * sm * (3.0f - 2.0f * sm) - g * g);
+        const float facing = std::max(c, -c * twoSided[i]);
+        w[i] = inten[i] / std::max(d2, minD2[i]) * spot * (1.0f + planar[i] * (facing - 1.0f));
     }
 }
 
@@ -81,7 +102,7 @@ void LightSelection::weightsAt(Vec3 x, float* w) const {
 // power's pick): p's foot on the line at t = Δ, at distance D (at least √minD2);
 // ∫ dt/(D² + (t − Δ)²) over [0, tEnd] = (atan a − atan b)/D, a = (tEnd − Δ)/D, b = −Δ/D. A
 // spot without its cone.
-void LightSelection::weightsAlong(Vec3 o, Vec3 d, float tEnd, float* w) const {
+void LightSelection::weightsAlong(Vec3 o, Vec3 d, float tEnd, float* __restrict w) const {
     // Branch-free, so that the loop runs in vector lanes: an unbounded segment's a = +∞ comes
     // out of t1 = 1e30 (atan of a huge or infinite argument is π/2); a planar emitter's lane
     // is computed and zeroed.

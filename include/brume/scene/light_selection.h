@@ -67,10 +67,10 @@ private:
         std::vector<float> nx, ny, nz;  // planar: unit normal; spot: axis
         std::vector<float> intensity;   // grey I, or L·A (Φ/π of one side) for a planar emitter
         std::vector<float> minD2;       // smallest squared distance a weight uses
-        std::vector<uint8_t> kind;      // 0 point or sphere, 1 spot, 2 one-sided, 3 two-sided planar
-        std::vector<float> planar;      // 1 for a planar emitter, 0 for others (the segment loop)
+        std::vector<float> planar, twoSided;  // 1 or 0: a planar emitter, a two-sided one
+        std::vector<float> spotScale, spotOffset;  // glTF's spot profile (scale 0, offset 1: none)
+        std::vector<float> cycles, cosOuter, invSmooth;  // Cycles' spot profile (cycles 1)
         std::vector<float> power;       // power's pmf
-        std::vector<const Light*> light;
     };
     void weightsAt(Vec3 x, float* w) const;
     void weightsAlong(Vec3 o, Vec3 d, float tEnd, float* w) const;

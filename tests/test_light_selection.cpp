@@ -1,7 +1,7 @@
 // Picks by where a connection starts (light_selection.h): the picks are distributions that
 // sampling follows, keep power's floor, steer towards the near light, and fall back to power
 // bit for bit; and the path tracer stays unbiased with them, against quadrature of single
-// scattering from five lights of three kinds in every --connect mode.
+// scattering from six lights of four kinds in every --connect mode.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -17,8 +17,8 @@ using namespace brume::test;
 namespace {
 
 // many_lights.gltf (tests/data/make_test_scenes.py): lights 0 and 1 the points (near, and
-// bright far off), 2 the spot, 3 and 4 the quad's halves.
-const Vec3 kNear(0.3f, 0.2f, -1.5f), kFar(-12.0f, -0.5f, -20.0f), kSpot(0.0f, 1.5f, -3.0f);
+// bright far off), 2 the spot, 3 the sphere below the view, 4 and 5 the quad's halves.
+const Vec3 kNear(0.3f, 0.2f, -1.5f), kFar(-12.0f, -0.5f, -20.0f), kSpot(0.0f, 1.5f, -3.0f), kLow(0.0f, -1.5f, -3.0f);
 
 struct Segment {
     Vec3 o, d;
@@ -67,7 +67,7 @@ TEST_CASE("light selection: picks are distributions that sampling follows, over 
     auto scene = loadTestScene("many_lights.gltf");
     const LightSelection& sel = scene->lightSelection();
     const int n = int(scene->lights().size());
-    REQUIRE(n == 5);
+    REQUIRE(n == 6);
     REQUIRE(sel.spatial());
     const auto& power = scene->lightDistribution();
     for (const Vec3& x : testPoints()) {
@@ -77,7 +77,7 @@ TEST_CASE("light selection: picks are distributions that sampling follows, over 
             CHECK(sel.pmfAt(x, i) >= 0.1f * power.pmf(i) * (1 - 1e-5f));
         }
         CHECK(sum == Approx(1.0).epsilon(1e-5));
-        CHECK(sel.pmfAt(x, 3) == sel.pmfAt(x, 4));  // a rectangle's halves: one pick
+        CHECK(sel.pmfAt(x, 4) == sel.pmfAt(x, 5));  // a rectangle's halves: one pick
         requireSamplingFollows(n, [&](float u, float* p) { return sel.sampleAt(x, u, p); },
                                [&](int i) { return sel.pmfAt(x, i); });
     }
@@ -89,7 +89,7 @@ TEST_CASE("light selection: picks are distributions that sampling follows, over 
         }
         CHECK(sum == Approx(1.0).epsilon(1e-5));
         // Along a segment planar emitters keep power's pick (light_selection.h).
-        CHECK(sel.pmfAlong(s.o, s.d, s.tEnd, 3) == Approx(power.pmf(3)).epsilon(1e-5));
+        CHECK(sel.pmfAlong(s.o, s.d, s.tEnd, 4) == Approx(power.pmf(4)).epsilon(1e-5));
         requireSamplingFollows(n, [&](float u, float* p) { return sel.sampleAlong(s.o, s.d, s.tEnd, u, p); },
                                [&](int i) { return sel.pmfAlong(s.o, s.d, s.tEnd, i); });
     }
@@ -104,7 +104,7 @@ TEST_CASE("light selection: the near light gets the pick, weights as the header 
     // A segment passing 1 cm from "bright" gives it nearly all the point-like lights' steered
     // share (0.9 of their power's).
     const Segment s{kFar + Vec3(0, 0.01f, 2), Vec3(0, 0, -1), 4.0f};
-    const double pointLike = power.pmf(0) + power.pmf(1) + power.pmf(2);
+    const double pointLike = power.pmf(0) + power.pmf(1) + power.pmf(2) + power.pmf(3);
     CHECK(sel.pmfAlong(s.o, s.d, s.tEnd, 1) > 0.1 * power.pmf(1) + 0.89 * pointLike);
     // The weights themselves: I/r² at a point; the spot's cone (outside it: 0); I·Δθ/D along a
     // segment (here the segment's middle passes "near" at D = 0.5: Δθ = 2·atan(1/0.5)).
@@ -114,7 +114,7 @@ TEST_CASE("light selection: the near light gets the pick, weights as the header 
     CHECK(wAt[2] == 0.0f);  // below the spot but 63° off its axis
     const auto wAlong = sel.weightsAlong(kNear + Vec3(0.5f, 0, 1), Vec3(0, 0, -1), 2.0f);
     CHECK(wAlong[0] == Approx(10.0 * 2.0 * std::atan(2.0) / 0.5).epsilon(1e-4));
-    CHECK(wAlong[3] == 0.0f);
+    CHECK(wAlong[4] == 0.0f);
 }
 
 TEST_CASE("light selection: power's picks, bit for bit, where it does not apply", "[light_selection]") {
@@ -137,9 +137,10 @@ TEST_CASE("light selection: power's picks, bit for bit, where it does not apply"
 
 // The quadrature oracle: the sum of each light's single scattering (no light shadows another
 // here: make_test_scenes.py, many_lights). Every connect mode makes its picks by position
-// (A from its vertex, C and D along the camera ray), and each technique's weight reads the
-// others' picks, so a pick density that differs from the one sampled shows here as a bias.
-TEST_CASE("single scattering from five lights matches quadrature with picks by position", "[oracle][pt][light_selection][sanitizer-skip]") {
+// (A, C and D along the camera ray, B's weight from the segment before the light it hits),
+// and each technique's weight reads the others' picks, so a pick density that differs from
+// the one sampled shows here as a bias.
+TEST_CASE("single scattering from six lights matches quadrature with picks by position", "[oracle][pt][light_selection][sanitizer-skip]") {
     const int W = 8, H = 8;
     auto scene = loadTestScene("many_lights.gltf");
     const Light spot = singleSpotLight();
@@ -150,6 +151,7 @@ TEST_CASE("single scattering from five lights matches quadrature with picks by p
         ref[size_t(i)] = double(singleScatterReference(d, kNear, Vec3(10.0f), s, a, kG, nullptr).x) +
                          double(singleScatterReference(d, kFar, Vec3(1000.0f), s, a, kG, nullptr).x) +
                          double(singleScatterReference(d, kSpot, Vec3(30.0f), s, a, kG, &spot).x) +
+                         sphereReference(d, kLow, 0.4, 10.0) +
                          quadReference(d, Vec3(0, 2, -3), Vec3(0.5f, 0, 0), Vec3(0, 0, 0.5f), Vec3(0, -1, 0), 40.0);
     }
     const double bound = zBound(W * H);

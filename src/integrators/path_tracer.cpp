@@ -127,9 +127,10 @@ bool usesEquiAngular(const Scene& scene, ConnectMode m, const Light& l, const Me
 // caller already knows (a negative c or d: not known, computed here).
 struct MediumPath {
     const Light* light;
-    float pickAt;   // P(light) for A, picked from x (LightSelection::pmfAt)
-    float pickAlong;  // P(light) for C and D, picked along the segment (pmfAlong, of yLight);
-                      // negative: not known, computed here where C or D needs it
+    // P(light) for A, and for C and D: in a medium all three pick along the segment
+    // (LightSelection::pmfAlong, of yLight for C and D; a rectangle's halves get one pick).
+    float pickAt;
+    float pickAlong;  // negative: not known, computed here where C or D needs it
     Vec3 y;         // the light point (position of a point or spot light)
     int yLight;     // the light y lies on (the picked one, or the other half of its rectangle)
     float pL;       // p_L(y|x)
@@ -220,7 +221,9 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
                       const ShareNotes& shares, const FamilyShare& family = FamilyShare{}) {
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     float pick;
-    int li = pickLightAt(scene, sampler, dims, 0, v.p, &pick);
+    // In a medium the vertex picks as its segment does (light_selection.h), else from its point.
+    int li = v.origin ? pickLightAlong(scene, sampler, dims, 0, v.origin->seg.o, v.origin->seg.d, v.origin->seg.tEnd, &pick)
+                      : pickLightAt(scene, sampler, dims, 0, v.p, &pick);
     const Light& light = scene.lights()[li];
     if (v.origin && !usesDensity(mode, light)) return Spectrum(0.0f);  // C's job in this mode
     // A share of 0 at a medium vertex (the caller made this call whatever its number): made
@@ -316,7 +319,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
     // (B cannot reach a point or spot light: its density, guided or not, is then not needed.)
-    MediumPath path{&light, scene.lightSelection().pmfAt(x, li), pick, ls.p, li, ls.pdf, ls.isDelta,
+    MediumPath path{&light, pick, pick, ls.p, li, ls.pdf, ls.isDelta,
                     ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
@@ -354,7 +357,7 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     const float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
     origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
-    MediumPath path{&light, scene.lightSelection().pmfAt(x, li), pick, ls.p, landedLight(li, ls), ls.pdf, false,
+    MediumPath path{&light, pick, pick, ls.p, landedLight(li, ls), ls.pdf, false,
                     directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.d = double(pick) * pOmega * ls.pdf;
     const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q);
@@ -470,10 +473,12 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         if (!nee || specularBounce) return 1.0f;
         const int li = hit.sphereLight >= 0 ? hit.sphereLight : scene.triangleLight(hit.mesh, hit.triangle);
         const Light& light = scene.lights()[li];
-        const float pick = scene.lightSelection().pmfAt(prevP, li);
+        const LightSelection& selection = scene.lightSelection();
+        const MediumSegment& seg = prevOrigin.seg;
+        const float pick = prevInMedium ? selection.pmfAlong(seg.o, seg.d, seg.tEnd, li) : selection.pmfAt(prevP, li);
         const float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
         if (!prevInMedium) return powerHeuristic(prevPdf, pick * pL);
-        const StrategyDensities p = densitiesOf(scene, prevOrigin, MediumPath{&light, pick, -1.0f, hit.p, li, pL, false, prevPdf},
+        const StrategyDensities p = densitiesOf(scene, prevOrigin, MediumPath{&light, pick, pick, hit.p, li, pL, false, prevPdf},
                                                 mode, prevTables, notes.q);
         const float w = powerWeight(p.b, p);
         notes.note(ConnectionShares::Technique::Emitter, beta * Le * w, w, p);

@@ -151,10 +151,13 @@ def many_lights(name):
     """Quadrature oracle for picks by where a connection starts (light_selection.h): a point
     light near the camera (intensity 10), a bright one out of view far off (intensity 1000:
     97% of the power, so power's picks and the picks by position differ 30x for the others),
-    single_spot's spot (intensity 30) and area_quad's one-sided quad (radiance 40 here, two
-    triangles) in single-scattering fog. No light can shadow another on a connection from a
-    camera ray (the quad is above the view and every other light below it), so the reference
-    is the sum of each light's. See test_light_selection."""
+    single_spot's spot (intensity 30), a sphere light below the view (intensity 10, radius
+    0.4: a hittable light, steered along segments, large enough that phase sampling's hits
+    on it carry weight) and area_quad's one-sided quad (radiance 40
+    here, two triangles) in single-scattering fog. No light can shadow another on a connection
+    from a camera ray (the quad is above the view and every other light below it, the sphere
+    below every such connection), so the reference is the sum of each light's. See
+    test_light_selection."""
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, SINGLE_YFOV)
     b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
@@ -163,6 +166,7 @@ def many_lights(name):
     down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
     b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
                 inner_cone=0.2, outer_cone=0.4)
+    b.add_light("low", "point", (1.0, 1.0, 1.0), POINT_INTENSITY, translation=(0.0, -1.5, -3.0), radius=0.4)
     emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
                              emissive=(5.0, 5.0, 5.0), emissive_strength=8.0)
     pos, nrm, uvs, idx = g.quad((0.0, 2.0, -3.0), (0.5, 0.0, 0.0), (0.0, 0.0, 0.5))

@@ -127,10 +127,7 @@ bool usesEquiAngular(const Scene& scene, ConnectMode m, const Light& l, const Me
 // caller already knows (a negative c or d: not known, computed here).
 struct MediumPath {
     const Light* light;
-    // P(light) for A, and for C and D: in a medium all three pick along the segment
-    // (LightSelection::pmfAlong, of yLight for C and D; a rectangle's halves get one pick).
-    float pickAt;
-    float pickAlong;  // negative: not known, computed here where C or D needs it
+    float pick;     // P(light): in a medium A, C and D all pick along the segment (light_selection.h)
     Vec3 y;         // the light point (position of a point or spot light)
     int yLight;     // the light y lies on (the picked one, or the other half of its rectangle)
     float pL;       // p_L(y|x)
@@ -147,11 +144,7 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
                                ConnectionShares::Shares* made = nullptr) {
     const Light& light = *path.light;
     StrategyDensities p;
-    auto pickAlong = [&] {
-        return path.pickAlong >= 0 ? path.pickAlong
-                                   : scene.lightSelection().pmfAlong(o.seg.o, o.seg.d, o.seg.tEnd, path.yLight);
-    };
-    if (usesDensity(mode, light)) p.a = double(o.pFreeFlight) * path.pickAt * path.pL;
+    if (usesDensity(mode, light)) p.a = double(o.pFreeFlight) * path.pick * path.pL;
     if (!path.delta) p.b = double(o.pFreeFlight) * path.phase;
     if (path.c >= 0) {
         p.c = path.c;
@@ -161,7 +154,7 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         const Vec3 x = o.seg.o + o.seg.d * o.t;
         const bool onSurface = yl.isPlanar();  // C's anchor is its light point (lightAnchor)
         const float pArea = onSurface ? lightPdfByArea(scene, yl, x, path.y, Vec3(0.0f)) : path.pL;
-        const float pick = pickAlong();
+        const float pick = onSurface ? scene.lightSelection().pmfAlong(o.seg.o, o.seg.d, o.seg.tEnd, path.yLight) : path.pick;
         EquiAngular ea;
         const Vec3 anchor = onSurface ? path.y : yl.position;
         if (pArea > 0 && equiAngularTowards(yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
@@ -171,7 +164,7 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         p.d = path.d;
     } else if (usesSolidAngle(scene, mode, light, o.seg)) {
         if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
-            p.d = double(pickAlong()) * solidAngleDistancePdf(*sd, o.t) * path.pL;
+            p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
     }
     if (noVertex) p.a = 0;
     // A and C made with probabilities qA and qC (connection_shares.h): densities q·p; a share
@@ -242,7 +235,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     float q = 1;  // A's share at a medium vertex (connection_shares.h)
     if (v.origin) {
         ConnectionShares::Shares made;
-        p = densitiesOf(scene, *v.origin, MediumPath{&light, pick, -1.0f, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf},
+        p = densitiesOf(scene, *v.origin, MediumPath{&light, pick, ls.p, landedLight(li, ls), ls.pdf, ls.isDelta, scatterPdf},
                         mode, tables, shares.q, false, &made);
         w = powerWeight(p.a, p);
         q = made.vertex;
@@ -319,8 +312,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     MediumTransit tr = m.transit(ray, 0.0f, origin.t, false, true);
     origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
     // (B cannot reach a point or spot light: its density, guided or not, is then not needed.)
-    MediumPath path{&light, pick, pick, ls.p, li, ls.pdf, ls.isDelta,
-                    ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
+    MediumPath path{&light, pick, ls.p, li, ls.pdf, ls.isDelta, ls.isDelta ? phase : directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.c = double(pick) * ls.pdf * pea;
     if (onSurface) path.pL = lightPdf(scene, light, x, ls.p, Vec3(0.0f));  // A's and D's p_L
     // equiangular, product, passing: C replaces A
@@ -357,8 +349,7 @@ Spectrum solidAngleDirect(const Scene& scene, const MediumSegment& seg, const Me
     const float phase = hgPhase(dot(seg.d, ls.wi), m.g);
     MediumTransit tr = m.transit(Ray{seg.o, seg.d, seg.tEnd}, 0.0f, origin.t, false, true);
     origin.pFreeFlight = distanceDensity(m, tr, channels, gd, origin.t);
-    MediumPath path{&light, pick, pick, ls.p, landedLight(li, ls), ls.pdf, false,
-                    directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
+    MediumPath path{&light, pick, ls.p, landedLight(li, ls), ls.pdf, false, directionPdfAt(field, x, seg.d, m.g, ls.wi, phase)};
     path.d = double(pick) * pOmega * ls.pdf;
     const StrategyDensities p = densitiesOf(scene, origin, path, mode, tables, shares.q);
     const float w = powerWeight(p.d, p);
@@ -478,7 +469,7 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
         const float pick = prevInMedium ? selection.pmfAlong(seg.o, seg.d, seg.tEnd, li) : selection.pmfAt(prevP, li);
         const float pL = lightPdf(scene, light, prevP, hit.p, hit.ng);
         if (!prevInMedium) return powerHeuristic(prevPdf, pick * pL);
-        const StrategyDensities p = densitiesOf(scene, prevOrigin, MediumPath{&light, pick, pick, hit.p, li, pL, false, prevPdf},
+        const StrategyDensities p = densitiesOf(scene, prevOrigin, MediumPath{&light, pick, hit.p, li, pL, false, prevPdf},
                                                 mode, prevTables, notes.q);
         const float w = powerWeight(p.b, p);
         notes.note(ConnectionShares::Technique::Emitter, beta * Le * w, w, p);

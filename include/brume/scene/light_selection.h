@@ -1,8 +1,8 @@
 // Which light a connection goes to, chosen by where it starts: from a point x (a surface
 // vertex), in proportion to what each light would give x unoccluded; along a ray segment in a
 // medium (every connection made on it or from a free-flight vertex on it), to what it would
-// give the segment's points. Power alone (Scene::lightDistribution) picks the far lamps of a street as
-// often as the near one, whose light a point in the fog mostly gets.
+// give the segment's points. Power alone (Scene::lightDistribution) picks the far lamps of a
+// street as often as the near one, whose light a point in the fog mostly gets.
 //
 // Weights (grey intensities; unoccluded, no transmittance, no phase function):
 // - a point x and a point, sphere or spot light at p of intensity I: I·spot(x)/|x − p|² (the

@@ -62,6 +62,9 @@ LightSelection::LightSelection(const std::vector<Light>& lights, const Distribut
     }
     count_ = int(lights.size());
     spatial_ = true;
+    // Along segments only point-like lights are steered, among themselves: with fewer than two
+    // there is nothing to steer, and the segment's sums would be spent for power's pick.
+    steerAlong_ = std::count(src_.planar.begin(), src_.planar.end(), 0.0f) >= 2;
 }
 
 // From x: I·spot/max(r², minD2), or L·A·cos⁺/max(r², A). Branch-free as the segment's loop
@@ -206,12 +209,12 @@ float LightSelection::pmfAt(Vec3 x, int light) const {
 }
 
 int LightSelection::sampleAlong(Vec3 o, Vec3 d, float tEnd, float u, float* p) const {
-    if (!spatial_) return power_->sample(u, p);
+    if (!steerAlong_) return power_->sample(u, p);
     return sample(tableAlong(o, d, tEnd), u, p);
 }
 
 float LightSelection::pmfAlong(Vec3 o, Vec3 d, float tEnd, int light) const {
-    if (!spatial_) return power_->pmf(light);
+    if (!steerAlong_) return power_->pmf(light);
     return pmf(tableAlong(o, d, tEnd), light);
 }
 

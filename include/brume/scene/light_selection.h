@@ -51,7 +51,8 @@ public:
     int sampleAt(Vec3 x, float u, float* pmf) const;
     float pmfAt(Vec3 x, int light) const;
 
-    // Along the segment o + t·d, t ∈ [0, tEnd] (d unit; tEnd may be +∞).
+    // Along the segment o + t·d, t ∈ [0, tEnd] (d unit; tEnd may be +∞): power's pick, to the
+    // bit, unless there are at least two point-like lights to steer between.
     int sampleAlong(Vec3 o, Vec3 d, float tEnd, float u, float* pmf) const;
     float pmfAlong(Vec3 o, Vec3 d, float tEnd, int light) const;
 
@@ -86,6 +87,7 @@ private:
     int count_ = 0;
     const Distribution1D* power_ = nullptr;
     bool spatial_ = false;
+    bool steerAlong_ = false;  // spatial_ with at least two point-like lights
     uint64_t id_ = 0;  // tells this selection's kept sums from another's
 };
 

@@ -17,6 +17,7 @@
 #include "brume/integrators/bdpt_allocation.h"
 #include "brume/integrators/boundary_walk.h"
 #include "brume/integrators/equiangular_segment.h"
+#include "brume/integrators/light_numbers.h"
 #include "brume/integrators/path_vertex.h"
 #include "brume/integrators/path_guide.h"
 #include "brume/integrators/visibility.h"
@@ -295,6 +296,9 @@ struct Checker : BdptObserver {
                 if (tt == 1) prod *= cameraCount * lightSubpathsMade();
                 // On paths of one scattering event, times light tracing's share.
                 if (tt == 1 && k == 2) prod *= lightTracingFactor();
+                // The light connection picks its light by where it starts (from x(k−1), or
+                // along the ray x(k−2) → x(k−1) in a medium), every other strategy by power.
+                if (ss == 1 && tt >= 2) prod *= lightConnectionPickRatio(*scene, x[k - 2].p, x[k - 1].p, x[k - 1].isMedium(), li);
                 long double termFf = ffOn ? pw(prod) : 0, termEa = eaOn ? pw(prod * rho[c]) : 0;
                 sum += termFf + termEa;
                 if (tt == t && c == hero) self = equiAngular ? termEa : termFf;
@@ -403,6 +407,12 @@ TEST_CASE("bdpt MIS weights equal the heuristic over all strategies' path densit
     checkWeights("area_sphere.gltf", 4);
     checkWeights("bdpt_window_fog.gltf", 16);  // directional light, bounded fog
     checkWeights("bdpt_glass_sphere.gltf", 4);  // specular chains, spot light
+}
+
+TEST_CASE("bdpt MIS weights where the light connection picks by where it starts", "[bdpt][mis][light_selection]") {
+    // Six lights of four kinds (light_selection.h): the light connection's pick differs from
+    // the light subpath's by up to 30x, from surface and medium vertices.
+    for (ConnectMode m : {ConnectMode::Density, ConnectMode::Mis, ConnectMode::EquiAngular}) checkWeights("many_lights.gltf", 4, m);
 }
 
 TEST_CASE("bdpt MIS weights with equi-angular light connections (mis, equiangular and product modes)", "[bdpt][mis]") {

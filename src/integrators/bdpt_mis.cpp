@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "brume/integrators/bdpt_equiangular.h"
+#include "brume/integrators/light_numbers.h"
 #include "brume/sampling/equiangular.h"
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
@@ -103,8 +104,11 @@ ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const
         V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
     }
     // A general connection is made with probability p: its densities count p times; a camera
-    // connection as often as the allocation makes it (0 or 1).
-    const double count = general ? st.generalConnection : cameraConnection ? st.cameraConnection : 1.0;
+    // connection as often as the allocation makes it (0 or 1). A light connection picks its
+    // light by where it starts, every other strategy by power: its density is the light
+    // subpath's start (the anchor's pdfFwd) times λ = its pick over power's (light_numbers.h).
+    double count = general ? st.generalConnection : cameraConnection ? st.cameraConnection : 1.0;
+    if (anchorEndsPath && anchor.light >= 0) count *= lightConnectionPickRatio(scene, prev.p, v.p, v.isMedium(), anchor.light);
     if (count != 1.0) V *= misPower(st.heuristic, Real(count));
     return V;
 }
@@ -253,7 +257,12 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
     // The own strategy's count (a general connection is made with probability p, a camera
     // connection 0 or 1 times): the numerator of its weight, and a factor of its own terms
     // (ownV has it already). Its equi-angular variant's count is 1 or 0 on top of that.
-    const Real ownCount = misPower(h, Real(s >= 2 && t >= 2 ? st.generalConnection : t == 1 ? st.cameraConnection : 1.0));
+    // A light connection's own density has its pick's λ too (variantFactor), which ownV holds.
+    const double ownPick = s == 1 && t >= 2 && light[0].light >= 0
+                               ? lightConnectionPickRatio(scene, camera[t - 2].p, camera[t - 1].p, camera[t - 1].isMedium(),
+                                                          light[0].light)
+                               : 1.0;
+    const Real ownCount = misPower(h, Real((s >= 2 && t >= 2 ? st.generalConnection : t == 1 ? st.cameraConnection : 1.0) * ownPick));
     const bool ownEaAllowed = t == 1 ? st.equiAngularCamera : s == 1 ? st.equiAngularLight : st.generalEquiAngular;
     // The light prefix P(s − 3), summed afresh where the camera walk passes through media at
     // the indices of its vertices (passedLightPrefix).
@@ -298,7 +307,8 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
         total += misPower(h, Real(own[c])) * sum;
     }
     // One channel of st.channels was drawn: the estimate is divided by its probability.
-    if (perCount) *perCount = total > 0 ? double(N / total) : double(kInfinity);
+    // (The weight over the own count alone: a light connection's λ stays in it.)
+    if (perCount) *perCount = total > 0 ? double(N * misPower(h, Real(ownPick)) / total) : double(kInfinity);
     return total > 0 ? double(N * ownCount / total) : 0.0;
 }
 

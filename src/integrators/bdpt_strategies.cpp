@@ -289,14 +289,38 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     const Scene& scene = c.scene;
     if (scene.lightDistribution().empty()) return Spectrum(0.0f);
     const uint32_t dims = dim::connection(1, t);
-    float pick;
-    const int li = pickLight(scene, c.sampler, dims, 0, &pick);
-    const Light& l = scene.lights()[li];
-    const Sample2 uLight = lightPointNumbers(l, c.sampler, dims + dim::kLightPoint, 0);
     const PathVertex& zPrev = c.camera[t - 2];
+    // The light, picked by where the connection starts (light_numbers.h, lightConnectionPmf):
+    // the free-flight variant from z(t−1) itself, or along its ray in a medium; the
+    // equi-angular variant along the ray it places z(t−1) on. One number serves both; where
+    // picks are power's they are the same pick.
+    const bool steered = scene.lightSelection().spatial();
+    const float uPick = scene.lightDistribution().size() > 1 ? c.sampler.get1D(dims + dim::kPick) : 0.5f;
+    struct Pick {
+        int light = -1;
+        float pmf = 0;
+        Sample2 u{0.5f, 0.5f};  // the light point's numbers
+    };
+    auto pickFor = [&](bool ea) {
+        Pick p;
+        const PathVertex& z = c.camera[t - 1];
+        if (!steered) p.light = scene.lightDistribution().sample(uPick, &p.pmf);
+        else if (ea) p.light = scene.lightSelection().sampleAlong(zPrev.p, z.edgeDir, kInfinity, uPick, &p.pmf);
+        else if (!z.isMedium()) p.light = scene.lightSelection().sampleAt(z.p, uPick, &p.pmf);
+        else {
+            const Vec3 d = z.p - zPrev.p;
+            const float len = length(d);
+            p.light = len > 0 ? scene.lightSelection().sampleAlong(zPrev.p, d / len, kInfinity, uPick, &p.pmf)
+                              : scene.lightSelection().sampleAt(z.p, uPick, &p.pmf);
+        }
+        p.u = lightPointNumbers(scene.lights()[size_t(p.light)], c.sampler, dims + dim::kLightPoint, 0);
+        return p;
+    };
+    const Pick pickFf = pickFor(false);
+    const Pick pickEa = steered ? pickFor(true) : pickFf;
     Vec3 anchor;
     const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
-                      !zPrev.delta && lightAnchor(l, uLight, &anchor);
+                      !zPrev.delta && lightAnchor(scene.lights()[size_t(pickEa.light)], pickEa.u, &anchor);
     const bool ffOn = freeFlightVariantOn(c.mis, t <= c.nCamera, c.camera[t - 1], eaOn);
     const bool replaceable = replaceableByEquiAngular(c.camera[t - 1], eaOn);
     Spectrum L(0.0f);
@@ -305,6 +329,11 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         const bool ea = variant == 1;
         if (!variantWanted(c, variant, ea ? eaOn : ffOn)) continue;
         RayMeter meter(c.stats, StrategyKind::LightConnection, ea, replaceableRays(c, 0, ea, c.camera[t - 1], eaOn));
+        const Pick& picked = ea ? pickEa : pickFf;
+        const int li = picked.light;
+        const float pick = picked.pmf;
+        const Light& l = scene.lights()[size_t(li)];
+        const Sample2 uLight = picked.u;
         // The equi-angular variant: z(t−1) on its ray, towards the light's anchor.
         VertexSwap swap;
         double pea = 0;

@@ -62,7 +62,14 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
     double pdfDir = 0;
     if (connectToCamera(cam, x, width, height, &cx))
         pdfDir = double(cx.We) * -double(dot(cx.wi, cam.forward)) * (lightPixels ? double(lightPixels->density(cx.fx, cx.fy)) : 1.0);
-    const double pc = pdfDir / (double(sc) * sc) * cameraDensity;
+    // The camera family (the path tracer) picks its light along the camera ray, light tracing
+    // by power (light_selection.h): p_C carries the ratio of the two picks, here over the
+    // unbounded ray (a stand-in both families compute alike).
+    const double pick = scene.lightSelection().spatial()
+                            ? double(scene.lightSelection().pmfAlong(c, toX / sc, kInfinity, li)) /
+                                  double(scene.lightDistribution().pmf(li))
+                            : 1.0;
+    const double pc = pdfDir / (double(sc) * sc) * cameraDensity * pick;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
     emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);

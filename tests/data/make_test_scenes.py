@@ -147,7 +147,7 @@ def area_quad(name):
     return b.write(out(name))
 
 
-def many_lights(name):
+def many_lights(name, extended=True):
     """Quadrature oracle for picks by where a connection starts (light_selection.h): a point
     light near the camera (intensity 10), a bright one out of view far off (intensity 1000:
     97% of the power, so power's picks and the picks by position differ 30x for the others),
@@ -157,7 +157,9 @@ def many_lights(name):
     here, two triangles) in single-scattering fog. No light can shadow another on a connection
     from a camera ray (the quad is above the view and every other light below it, the sphere
     below every such connection), so the reference is the sum of each light's. See
-    test_light_selection."""
+    test_light_selection. Without `extended`, the three point-like lights alone: the
+    bidirectional tracer's single scattering is then split between the path tracer and light
+    tracing (one_event_split.h)."""
     b = g.GltfBuilder("brume tests/data/make_test_scenes.py")
     camera_at_origin(b, SINGLE_YFOV)
     b.set_ambient(b.add_medium("fog", SINGLE_SCATTERING, SINGLE_ABSORPTION, SINGLE_G))
@@ -166,6 +168,8 @@ def many_lights(name):
     down = g.quat_axis_angle((1.0, 0.0, 0.0), -0.5 * math.pi)
     b.add_light("spot", "spot", (1.0, 1.0, 1.0), 30.0, translation=(0.0, 1.5, -3.0), rotation=down,
                 inner_cone=0.2, outer_cone=0.4)
+    if not extended:
+        return b.write(out(name))
     b.add_light("low", "point", (1.0, 1.0, 1.0), POINT_INTENSITY, translation=(0.0, -1.5, -3.0), radius=0.4)
     emitter = b.add_material("emitter", base_color=(0.0, 0.0, 0.0), metallic=0.0, roughness=1.0,
                              emissive=(5.0, 5.0, 5.0), emissive_strength=8.0)
@@ -601,6 +605,7 @@ def main():
         area_quad("area_quad.gltf"),
         # Five lights of three kinds (test_light_selection).
         many_lights("many_lights.gltf"),
+        many_lights("many_points.gltf", extended=False),
         # Large one-sided rectangles a few centimetres from the view rays (solid-angle sampling).
         area_rectangles_close("area_rectangles_close.gltf"),
         # Dense fog (mean free path 0.4 m, light 3 m away) and a light exactly on the central

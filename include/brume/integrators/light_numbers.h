@@ -27,6 +27,28 @@ inline int pickLightAlong(const Scene& scene, const Sampler& sampler, uint32_t d
     return scene.lightSelection().sampleAlong(o, d, tEnd, u, pick);
 }
 
+// The bidirectional tracer's light connection (s = 1) from camera vertex v, reached from the
+// vertex before it at prev: at a surface it picks from v itself; in a medium along the ray
+// from prev through v, unbounded (the ray's part in the medium would take a ray cast to find,
+// and the MIS weights of every strategy must find this pick again from the path's positions
+// alone: bdpt_mis.cpp, variantFactor). Its equi-angular variant, which places v on that ray
+// after the pick, picks along the ray the same way.
+inline float lightConnectionPmf(const Scene& scene, Vec3 prev, Vec3 v, bool medium, int light) {
+    const LightSelection& sel = scene.lightSelection();
+    if (!medium) return sel.pmfAt(v, light);
+    const Vec3 d = v - prev;
+    const float len = length(d);
+    return len > 0 ? sel.pmfAlong(prev, d / len, kInfinity, light) : sel.pmfAt(v, light);
+}
+// That pick over power's, the factor by which the light connection's path density differs
+// from the light subpath's start (every other strategy picks by power); 1 where picks are
+// power's.
+inline double lightConnectionPickRatio(const Scene& scene, Vec3 prev, Vec3 v, bool medium, int light) {
+    if (!scene.lightSelection().spatial()) return 1.0;
+    const float power = scene.lightDistribution().pmf(light);
+    return power > 0 ? double(lightConnectionPmf(scene, prev, v, medium, light)) / double(power) : 1.0;
+}
+
 // The numbers for a point on the light (dimension `dim`): a triangle or sphere light has
 // extent; a point, spot or directional light's sample is fixed and draws nothing.
 inline Sample2 lightPointNumbers(const Light& light, const Sampler& sampler, uint32_t dim, uint32_t repeat) {

@@ -19,11 +19,12 @@
 // (Light tracing by equi-angular sampling alone cost less, but the fog room's error with it was
 // 1.5x that with free flight beside it, docs/results.md.)
 //
-// The weight. Per unit volume at x, for a light picked with pmf P (the same in both families)
-// and a pinhole whose film is sampled uniformly (camera_importance.h's pdfDir) but around the
-// light's image, where the renderer draws it by inverse distance (m, light_pixels.h):
-//   p_C = P · pdfDir(ω_cx) · m / |x − c|² · π_C,     π_C per unit length on the camera ray
-//   p_L = q · P · p_e(ω_yx) / |x − y|² · π_L,    π_L on the light ray (p_e: emission direction
+// The weight. Per unit volume at x, for a light picked with pmf P_C by the camera family
+// (along the camera ray, light_selection.h) and P_L by light tracing (power), and a pinhole
+// whose film is sampled uniformly (camera_importance.h's pdfDir) but around the light's
+// image, where the renderer draws it by inverse distance (m, light_pixels.h):
+//   p_C = P_C · pdfDir(ω_cx) · m / |x − c|² · π_C,     π_C per unit length on the camera ray
+//   p_L = q · P_L · p_e(ω_yx) / |x − y|² · π_L,    π_L on the light ray (p_e: emission direction
 //                                                density; q: light subpaths made per sample)
 // The power heuristic over the two, with light tracing's variance-aware factor κ
 // (direct_light_tracing.h), gives the families

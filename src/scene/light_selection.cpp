@@ -62,6 +62,13 @@ LightSelection::LightSelection(const std::vector<Light>& lights, const Distribut
     }
     count_ = int(lights.size());
     spatial_ = true;
+    for (int i = 0; i < count_; ++i) {
+        if (src_.planar[size_t(i)] > 0) continue;
+        along_.px.push_back(src_.px[size_t(i)]), along_.py.push_back(src_.py[size_t(i)]), along_.pz.push_back(src_.pz[size_t(i)]);
+        along_.intensity.push_back(src_.intensity[size_t(i)]);
+        along_.minD2.push_back(src_.minD2[size_t(i)]);
+        along_.index.push_back(i);
+    }
     // Along segments only point-like lights are steered, among themselves: with fewer than two
     // there is nothing to steer, and the segment's sums would be spent for power's pick.
     steerAlong_ = std::count(src_.planar.begin(), src_.planar.end(), 0.0f) >= 2;
@@ -107,23 +114,26 @@ void LightSelection::weightsAt(Vec3 x, float* __restrict w) const {
 // spot without its cone.
 void LightSelection::weightsAlong(Vec3 o, Vec3 d, float tEnd, float* __restrict w) const {
     // Branch-free, so that the loop runs in vector lanes: an unbounded segment's a = +∞ comes
-    // out of t1 = 1e30 (atan of a huge or infinite argument is π/2); a planar emitter's lane
-    // is computed and zeroed.
+    // out of t1 = 1e30 (atan of a huge or infinite argument is π/2).
+    // It runs over the point-like lights only (along_), then scatters their weights.
     const float t1 = std::isfinite(tEnd) ? tEnd : 1e30f;
-    const float* __restrict px = src_.px.data();
-    const float* __restrict py = src_.py.data();
-    const float* __restrict pz = src_.pz.data();
-    const float* __restrict inten = src_.intensity.data();
-    const float* __restrict minD2 = src_.minD2.data();
-    const float* __restrict planar = src_.planar.data();
-    for (int i = 0; i < count_; ++i) {
-        const float ex = px[i] - o.x, ey = py[i] - o.y, ez = pz[i] - o.z;
+    const float* __restrict px = along_.px.data();
+    const float* __restrict py = along_.py.data();
+    const float* __restrict pz = along_.pz.data();
+    const float* __restrict inten = along_.intensity.data();
+    const float* __restrict minD2 = along_.minD2.data();
+    const int n = int(along_.index.size());
+    float wc[kMaxLights];
+    for (int j = 0; j < n; ++j) {
+        const float ex = px[j] - o.x, ey = py[j] - o.y, ez = pz[j] - o.z;
         const float delta = ex * d.x + ey * d.y + ez * d.z;
-        const float h2 = std::max(ex * ex + ey * ey + ez * ez - delta * delta, minD2[i]);
+        const float h2 = std::max(ex * ex + ey * ey + ez * ez - delta * delta, minD2[j]);
         const float invD = 1.0f / std::sqrt(h2);
         const float angle = atanAny((t1 - delta) * invD) - atanAny(-delta * invD);
-        w[i] = (1.0f - planar[i]) * inten[i] * std::max(angle, 0.0f) * invD;
+        wc[j] = inten[j] * std::max(angle, 0.0f) * invD;
     }
+    std::fill(w, w + count_, 0.0f);
+    for (int j = 0; j < n; ++j) w[along_.index[size_t(j)]] = wc[j];
 }
 
 std::vector<float> LightSelection::weightsAt(Vec3 x) const {

@@ -83,7 +83,14 @@ private:
     int sample(const Table& t, float u, float* pmf) const;
     float pmf(const Table& t, int light) const;
 
+    // The point-like lights alone, in the same arrays, for the segment's loop (its lanes are
+    // then all lights it steers: the street's four among sixteen), and their indices.
+    struct PointLike {
+        std::vector<float> px, py, pz, intensity, minD2;
+        std::vector<int> index;
+    };
     Sources src_;
+    PointLike along_;
     int count_ = 0;
     const Distribution1D* power_ = nullptr;
     bool spatial_ = false;

@@ -316,11 +316,12 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
         p.u = lightPointNumbers(scene.lights()[size_t(p.light)], c.sampler, dims + dim::kLightPoint, 0);
         return p;
     };
+    const bool eaPossible = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
+                            !zPrev.delta;
     const Pick pickFf = pickFor(false);
-    const Pick pickEa = steered ? pickFor(true) : pickFf;
+    const Pick pickEa = steered && eaPossible ? pickFor(true) : pickFf;
     Vec3 anchor;
-    const bool eaOn = c.mis.connect != ConnectMode::Density && c.mis.equiAngularLight && c.camera[t - 1].edgeMedium &&
-                      !zPrev.delta && lightAnchor(scene.lights()[size_t(pickEa.light)], pickEa.u, &anchor);
+    const bool eaOn = eaPossible && lightAnchor(scene.lights()[size_t(pickEa.light)], pickEa.u, &anchor);
     const bool ffOn = freeFlightVariantOn(c.mis, t <= c.nCamera, c.camera[t - 1], eaOn);
     const bool replaceable = replaceableByEquiAngular(c.camera[t - 1], eaOn);
     Spectrum L(0.0f);

@@ -304,15 +304,9 @@ Spectrum lightConnection(const StrategyContext& c, int t) {
     auto pickFor = [&](bool ea) {
         Pick p;
         const PathVertex& z = c.camera[t - 1];
-        if (!steered) p.light = scene.lightDistribution().sample(uPick, &p.pmf);
-        else if (ea) p.light = scene.lightSelection().sampleAlong(zPrev.p, z.edgeDir, kInfinity, uPick, &p.pmf);
-        else if (!z.isMedium()) p.light = scene.lightSelection().sampleAt(z.p, uPick, &p.pmf);
-        else {
-            const Vec3 d = z.p - zPrev.p;
-            const float len = length(d);
-            p.light = len > 0 ? scene.lightSelection().sampleAlong(zPrev.p, d / len, kInfinity, uPick, &p.pmf)
-                              : scene.lightSelection().sampleAt(z.p, uPick, &p.pmf);
-        }
+        p.light = !steered ? scene.lightDistribution().sample(uPick, &p.pmf)
+                           : sampleLightConnection(scene, LightConnectionStart{zPrev.p, z.p, ea ? z.edgeDir : Vec3(0.0f), ea || z.isMedium()},
+                                                   uPick, &p.pmf);
         p.u = lightPointNumbers(scene.lights()[size_t(p.light)], c.sampler, dims + dim::kLightPoint, 0);
         return p;
     };

@@ -32,13 +32,29 @@ inline int pickLightAlong(const Scene& scene, const Sampler& sampler, uint32_t d
 // from prev through v, unbounded (the ray's part in the medium would take a ray cast to find,
 // and the MIS weights of every strategy must find this pick again from the path's positions
 // alone: bdpt_mis.cpp, variantFactor). Its equi-angular variant, which places v on that ray
-// after the pick, picks along the ray the same way.
+// after the pick, picks along the ray the same way. Where it starts: `along` is that ray's
+// direction (the equi-angular variant's, before v is placed on it), or zero to take it from
+// prev to v.
+struct LightConnectionStart {
+    Vec3 prev, v, along;
+    bool medium;
+    // The unit direction to pick along, or zero to pick from v.
+    Vec3 direction() const {
+        if (!medium) return Vec3(0.0f);
+        if (dot(along, along) > 0) return along;
+        const Vec3 d = v - prev;
+        const float len = length(d);
+        return len > 0 ? d / len : Vec3(0.0f);
+    }
+};
+inline int sampleLightConnection(const Scene& scene, const LightConnectionStart& at, float u, float* pmf) {
+    const Vec3 d = at.direction();
+    return dot(d, d) > 0 ? scene.lightSelection().sampleAlong(at.prev, d, kInfinity, u, pmf)
+                         : scene.lightSelection().sampleAt(at.v, u, pmf);
+}
 inline float lightConnectionPmf(const Scene& scene, Vec3 prev, Vec3 v, bool medium, int light) {
-    const LightSelection& sel = scene.lightSelection();
-    if (!medium) return sel.pmfAt(v, light);
-    const Vec3 d = v - prev;
-    const float len = length(d);
-    return len > 0 ? sel.pmfAlong(prev, d / len, kInfinity, light) : sel.pmfAt(v, light);
+    const Vec3 d = LightConnectionStart{prev, v, Vec3(0.0f), medium}.direction();
+    return dot(d, d) > 0 ? scene.lightSelection().pmfAlong(prev, d, kInfinity, light) : scene.lightSelection().pmfAt(v, light);
 }
 // That pick over power's, the factor by which the light connection's path density differs
 // from the light subpath's start (every other strategy picks by power); 1 where picks are

@@ -14,6 +14,8 @@
 #include "brume/film/film.h"
 #include "brume/guiding/guided_phase.h"
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/integrator_settings.h"
+#include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/path_tracer.h"
 #include "brume/render/renderer.h"
 #include "support/block_z.h"
@@ -472,4 +474,85 @@ TEST_CASE("guided bdpt: the same seed gives the same image for any thread count,
     CHECK(renderResumed(*scene, make, 2, 40, 5) == one);   // mid-training
     CHECK(renderResumed(*scene, make, 2, 40, 18) == one);  // during light tracing's learning passes
     CHECK(renderResumed(*scene, make, 2, 40, 30) == one);  // measuring the noise
+}
+
+// --guiding auto in auto (guide_start.h): on the window-fog scene at 48 × 32, seed 4, auto chooses the
+// path tracer (after its pilot, duel and the shares' 4 passes), whose guide then trains for
+// 16 passes where at least 64 passes follow; a render with fewer planned passes never
+// starts one and is the unguided render's bits. Images are the same for any thread count and
+// after a resume before the guide starts, mid-training and while its noise is measured.
+TEST_CASE("auto with --guiding auto: the chosen path tracer starts a guide where enough passes follow", "[guiding][auto]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    const int W = 48, H = 32, total = 110;
+    auto settings = [&](bool guidingAuto, int planned) {
+        IntegratorSettings s;
+        s.guidingAuto = guidingAuto;
+        s.plannedPasses = planned;
+        return s;
+    };
+    auto renderFrom = [&](const IntegratorSettings& s, int threads, int stopAt, int passes, std::unique_ptr<Integrator>* kept) {
+        auto first = makeIntegrator(s);
+        Film film(W, H);
+        RenderOptions o;
+        o.width = W;
+        o.height = H;
+        o.seed = 4;
+        o.threads = threads;
+        o.spp = stopAt;
+        render(*scene, *first, o, film);
+        if (stopAt < passes) {
+            auto again = makeIntegrator(s);
+            again->loadState(first->saveState());
+            o.spp = passes - stopAt;
+            render(*scene, *again, o, film);
+            first = std::move(again);
+        }
+        std::vector<float> image = finalImage(film, *first, o.sampler);
+        if (kept) *kept = std::move(first);
+        return image;
+    };
+    std::unique_ptr<Integrator> guidedRun;
+    const std::vector<float> guided = renderFrom(settings(true, total), 2, total, total, &guidedRun);
+    const auto& tracer = static_cast<const BdptIntegrator&>(*guidedRun);
+    REQUIRE(tracer.planner());
+    REQUIRE(tracer.planner()->decided());
+    REQUIRE(tracer.guide());
+    CHECK(tracer.guide()->trainingPasses() == PathGuide::kLastFitPass);
+    CHECK(tracer.guide()->report().cells > 0);
+    CHECK(renderFrom(settings(true, total), 1, total, total, nullptr) == guided);
+    CHECK(renderFrom(settings(true, total), 2, 12, total, nullptr) == guided);  // in the pilot's passes
+    CHECK(renderFrom(settings(true, total), 2, 33, total, nullptr) == guided);  // mid-training
+    CHECK(renderFrom(settings(true, total), 2, 50, total, nullptr) == guided);  // measuring the noise
+    const std::vector<float> unguided = renderFrom(settings(false, total), 2, total, total, nullptr);
+    CHECK(unguided != guided);
+    // Too short: 60 passes planned, the decision near pass 20 leaves fewer than 64.
+    std::unique_ptr<Integrator> shortRun;
+    const std::vector<float> shortGuided = renderFrom(settings(true, 60), 2, 60, 60, &shortRun);
+    CHECK(!static_cast<const BdptIntegrator&>(*shortRun).guide());
+    CHECK(shortGuided == renderFrom(settings(false, 60), 2, 60, 60, nullptr));
+}
+
+// --guiding auto in the path tracer: with 64 passes or more planned it is `--guiding on`
+// (the guide from the first pass after the shares' 4), with fewer no guide.
+TEST_CASE("pt with --guiding auto starts its guide after its shares where at least 64 passes follow", "[guiding]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    auto run = [&](int planned, int passes) {
+        IntegratorSettings s;
+        s.kind = IntegratorKind::PathTracer;
+        s.guidingAuto = true;
+        s.plannedPasses = planned;
+        auto pt = makeIntegrator(s);
+        Film film(24, 16);
+        RenderOptions o;
+        o.width = 24;
+        o.height = 16;
+        o.seed = 5;
+        o.threads = 2;
+        o.spp = passes;
+        render(*scene, *pt, o, film);
+        return static_cast<const PathTracer&>(*pt).guide() != nullptr;
+    };
+    CHECK(run(68, 20));
+    CHECK(!run(67, 20));
+    CHECK(!run(0, 20));  // length not known
 }

@@ -86,9 +86,18 @@ IntegratorSettings bdpt(ConnectMode connect, bool exactEquiAngular = false, bool
     return s;
 }
 
+// The default of brume render: auto, which starts a guide once it has chosen the path tracer
+// where enough passes follow (--guiding auto). The fixed methods render unguided (METHOD:guided:
+// from the first pass).
+IntegratorSettings byDefault() {
+    IntegratorSettings s;
+    s.guidingAuto = true;
+    return s;
+}
+
 const BenchMethod kMethods[] = {
     {"auto", true, "the efficiency-aware bidirectional tracer (the default of brume render), pilot included",
-     IntegratorSettings{}},
+     byDefault()},
     {"pt:density", true, "path tracer, light connections from the free-flight point", pt(ConnectMode::Density)},
     {"pt:equiangular", true, "path tracer, equi-angular light connections", pt(ConnectMode::EquiAngular)},
     {"pt:product", true, "path tracer, equi-angular x phase light connections (plain equi-angular where g = 0)",

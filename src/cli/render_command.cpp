@@ -120,6 +120,11 @@ struct RenderArgs {
     bool nee = true;
     ConnectMode connect = ConnectMode::Mis;
     bool guiding = false;    // --guiding on (pt)
+    // --guiding auto (the default; guide_start.h): pt, and auto once it has chosen the path
+    // tracer, start a guide where enough passes follow. Resolved to off under mpirun, with
+    // --noise-threshold and with --strategy-images.
+    bool guidingAuto = true;
+    std::string guidingChoice = "auto";  // as given, for checkpoints
     int guidedDistances = -1;  // --guided-distances: the deepest vertex whose rays are guided (−1: off)
     bool volumeLights = true;  // --volume-lights
     EmitterSampling emitters = EmitterSampling::SolidAngle;
@@ -240,15 +245,19 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               [&](const std::string& v) { a.sampler = parseSamplerKind("--sampler", v); });
     addOption(app, "--threads", "N", "worker threads (default: all hardware threads)",
               [&](const std::string& v) { a.threads = int(parseInteger("--threads", v, 1, 1024)); });
-    addOption(app, "--guiding", "on|off",
-              "pt and bdpt: path guiding from a radiance field learned in the first 16 passes (docs/path-guiding.md): "
-              "pt draws directions from it, combined with phase and BSDF sampling, and both end walks by what it "
-              "expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of pt); off "
-              "by default",
+    addOption(app, "--guiding", "on|off|auto",
+              "path guiding from a radiance field learned in 16 training passes (docs/path-guiding.md): pt draws "
+              "directions from it, combined with phase and BSDF sampling, and both pt and bdpt end walks by what "
+              "it expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of "
+              "pt). on: pt and bdpt from the first pass; auto (the default): pt, and auto once it has chosen "
+              "the path tracer, start learning where at least 64 passes are still to come (--spp, or the time "
+              "left at the pace of the last pass), not under mpirun, --noise-threshold or --strategy-images",
               [&](const std::string& v) {
-                  if (v == "on") a.guiding = true;
-                  else if (v == "off") a.guiding = false;
-                  else throw UsageError("--guiding: expected on or off, got '" + v + "'");
+                  if (v != "on" && v != "off" && v != "auto")
+                      throw UsageError("--guiding: expected on, off or auto, got '" + v + "'");
+                  a.guiding = v == "on";
+                  a.guidingAuto = v == "auto";
+                  a.guidingChoice = v;
               });
     addOption(app, "--guided-distances", "off|camera|all",
               "with --integrator pt --guiding on: collisions drawn by the learned in-scattered radiance, "
@@ -338,6 +347,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
         a.sppGiven = true;  // (the scene's spp does not stand in: the threshold ends the render)
     }
     if (a.noiseThreshold > 0 && !a.strategyDir.empty()) throw UsageError("--strategy-images and --noise-threshold exclude each other");
+    // A guide started mid-render would learn from passes whose stopped pixels are black, and
+    // strategy images re-render passes by strategy: --guiding auto leaves both unguided.
+    if (a.noiseThreshold > 0 || !a.strategyDir.empty()) a.guidingAuto = false;
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
     // Checkpoints are for a planned number of passes: a time budget has no fixed end to resume to.
@@ -441,7 +453,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const
             {"--connect", connectName(a.connect)},
             {"--emitter-sampling", emitterSamplingName(a.emitters)},
             {"--max-depth", std::to_string(a.maxDepth)},
-            {"--guiding", a.guiding ? "on" : "off"},
+            {"--guiding", a.guidingChoice},
             {"--guided-distances", a.guidedDistances < 0 ? "off" : (a.guidedDistances == 0 ? "camera" : "all")},
             {"--volume-lights", a.volumeLights ? "on" : "off"},
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
@@ -530,6 +542,7 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.maxDepth = a.maxDepth;
     method.nextEventEstimation = a.nee;
     method.guiding = a.guiding;
+    method.guidingAuto = a.guidingAuto;
     method.guidedDistanceDepth = a.guidedDistances;
     method.volumeLights = a.volumeLights;
     method.heuristic = a.heuristic;
@@ -619,6 +632,9 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         throw UsageError("--noise-threshold needs a single process (not mpirun): pixels are chosen from the whole film between passes");
     if (group.distributed() && a.aovVariance)
         throw UsageError("--aov variance needs a single process (not mpirun): the ranks' films keep no squares");
+    // Every rank would decide from its own pace under a time budget, and the ranks would have
+    // to share the training passes (as with --guiding on): --guiding auto stays off.
+    if (group.distributed()) a.guidingAuto = false;
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {
@@ -808,9 +824,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         a.integrator == "auto" ? static_cast<const BdptIntegrator&>(integrator).planner() : nullptr;  // (null: bdpt)
     const DirectLightTracing* direct =
         a.integrator != "pt" ? static_cast<const BdptIntegrator&>(integrator).directLightTracing() : nullptr;
-    const PathGuide* guide = a.integrator == "pt"     ? static_cast<const PathTracer&>(integrator).guide()
-                             : a.integrator == "bdpt" ? static_cast<const BdptIntegrator&>(integrator).guide()
-                                                      : nullptr;
+    const PathGuide* guide = a.integrator == "pt" ? static_cast<const PathTracer&>(integrator).guide()
+                                                  : static_cast<const BdptIntegrator&>(integrator).guide();
     if (!a.strategyDir.empty() && !gInterrupted.load())
         writeStrategyImages(scene, strategyOptions(bdptOptions, planner, direct), options, a.strategyDir);
 

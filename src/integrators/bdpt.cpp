@@ -33,10 +33,18 @@ struct Subpaths {
 
 BdptIntegrator::BdptIntegrator(BdptOptions options)
     : options_(options),
-      pathTracer_(PathTracerOptions{options.maxDepth, true, options.connect, options.guiding, options.guideShare, -1,
-                                    options.volumeLights,
-                                    options.learnShares && !options.guiding && (options.efficiencyAware || options.allocation.pathTracer),
-                                    ConnectionShares::Shares{}}) {
+      pathTracer_([&] {
+          PathTracerOptions o;
+          o.maxDepth = options.maxDepth;
+          o.connect = options.connect;
+          o.guiding = options.guiding;
+          o.guidingAuto = options.guidingAuto && options.efficiencyAware;  // started here (guideStartsAt)
+          o.guideShare = options.guideShare;
+          o.volumeLights = options.volumeLights;
+          o.learnShares = options.learnShares && !options.guiding && (options.efficiencyAware || options.allocation.pathTracer);
+          return o;
+      }()),
+      guideStart_(options.plannedPasses) {
     if (options_.guiding && options_.efficiencyAware)
         throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths
@@ -70,10 +78,18 @@ bool BdptIntegrator::sharesPassAt(int pass) const {
     return planner_->pathTracerDuelPass(pass, AllocationDuel::kPasses - ConnectionShares::kLearningPasses);
 }
 
+// --guiding auto: once the path tracer renders for good (the planner's choice, which it does
+// not revisit) and has learnt its shares, where enough passes follow (guide_start.h).
+bool BdptIntegrator::guideStartsAt(int pass) const {
+    return options_.guidingAuto && planner_ && planner_->decided() && planner_->allocationFor(pass).pathTracer &&
+           !pathTracer_.guide() && !pathTracer_.sharesLearning() && guideStart_.pays(pass);
+}
+
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     sharesPass_ = sharesPassAt(pass);
     pathTracer_.pauseShares(!sharesPass_);
-    guideTraining_ = options_.guiding && pathTracer_.guide()->training();
+    if (guideStartsAt(pass)) pathTracer_.startGuide();
+    guideTraining_ = pathTracer_.guide() && pathTracer_.guide()->training();
     learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass);
     usesShare_ = direct_ && (!planner_ || planner_->pilotAllocationAt(pass));
     // Every strategy, in single scattering where the split applies: the fixed tracer, and
@@ -142,13 +158,17 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
 }
 
 // State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; where
-// the path tracer inside learns connection shares, "BDS1", the length and the path tracer's
+// the path tracer inside learns connection shares or may start a guide (auto with --guiding
+// auto), "BDS1", the length and the path tracer's
 // state; then the planner's (auto), then "BDL1" and light tracing's share if it learns one
 // (bdpt, and auto in single scattering); with both, the planner's is preceded by its length
 // (u64).
+bool BdptIntegrator::keepsPathTracerState() const {
+    return options_.guiding || pathTracer_.connectionShares() != nullptr || (options_.guidingAuto && planner_);
+}
+
 std::string BdptIntegrator::saveState() const {
-    const bool shares = pathTracer_.connectionShares() != nullptr;
-    if (!options_.guiding && !shares) return saveOwnState();
+    if (!keepsPathTracerState()) return saveOwnState();
     std::string out = options_.guiding ? "BDG1" : "BDS1";
     const std::string inside = pathTracer_.saveState();
     putBytes(out, uint64_t(inside.size()));
@@ -156,8 +176,7 @@ std::string BdptIntegrator::saveState() const {
 }
 
 void BdptIntegrator::loadState(const std::string& state) {
-    const bool shares = pathTracer_.connectionShares() != nullptr;
-    if (!options_.guiding && !shares) return loadOwnState(state);
+    if (!keepsPathTracerState()) return loadOwnState(state);
     const char* what = options_.guiding ? "guiding state is malformed" : "connection shares state is malformed";
     if (state.compare(0, 4, options_.guiding ? "BDG1" : "BDS1") != 0) throw std::runtime_error(what);
     StateReader reader{state, 4};
@@ -405,7 +424,8 @@ Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int
 }
 
 bool BdptIntegrator::learning(int pass) const {
-    if (options_.guiding && pathTracer_.learning(pass)) return true;
+    if ((options_.guiding || pathTracer_.guide()) && pathTracer_.learning(pass)) return true;
+    if (guideStartsAt(pass)) return true;
     if (direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass)) return true;
     if (splitting_ && !planner_ && direct_ && direct_->checking(pass)) return true;
     if (sharesPassAt(pass)) return true;
@@ -413,9 +433,10 @@ bool BdptIntegrator::learning(int pass) const {
 }
 
 void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
-    if (options_.guiding) pathTracer_.endPass(scene, summary);  // training, then the noise of the passes after it
-    if (sharesPass_) pathTracer_.endPass(scene, summary);
-    if (guideTraining_) return;
+    guideStart_.endPass(summary);
+    // The guide's training, then the noise of the passes after it; the shares' learning.
+    if (pathTracer_.guide() || sharesPass_) pathTracer_.endPass(scene, summary);
+    if (guideTraining_ && !planner_) return;
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
     if (checkingDirect_) summary.complete ? direct_->endCheckPass() : direct_->discardPass();
     if (planner_) {

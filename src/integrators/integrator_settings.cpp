@@ -16,6 +16,8 @@ PathTracerOptions pathTracerOptions(const IntegratorSettings& s) {
     o.nextEventEstimation = s.nextEventEstimation;
     o.connect = s.connect;
     o.guiding = s.guiding;
+    o.guidingAuto = s.guidingAuto && !s.guiding;
+    o.plannedPasses = s.plannedPasses;
     o.guidedDistanceDepth = s.guidedDistanceDepth;
     o.volumeLights = s.volumeLights;
     o.learnShares = s.learnShares;
@@ -32,6 +34,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.allocation = s.allocation;
     o.efficiencyAware = s.kind == IntegratorKind::EfficiencyAware && !variantOnly(s.connect);
     o.guiding = s.guiding;
+    o.guidingAuto = s.guidingAuto && !s.guiding && o.efficiencyAware;
     o.volumeLights = s.volumeLights;
     o.learnShares = s.learnShares;
     o.plannedPasses = s.plannedPasses;

@@ -755,6 +755,8 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     return L;
 }
 
+// The guide's state (empty where there is none yet: --guiding auto before it started), then
+// the shares' after its length.
 std::string PathTracer::saveState() const {
     const std::string guide = guide_ ? guide_->saveState() : std::string();
     if (!shares_) return guide;
@@ -764,16 +766,22 @@ std::string PathTracer::saveState() const {
 }
 
 void PathTracer::loadState(const std::string& state) {
-    if (!shares_) {
-        if (guide_) guide_->loadState(state);
-        else if (!state.empty()) throw std::runtime_error("this integrator keeps no state");
-        return;
-    }
+    // A guide that --guiding auto had started by then is started again, then restored.
+    auto loadGuide = [&](const std::string& bytes, const char* what) {
+        if (bytes.empty()) {
+            if (options_.guidingAuto) guide_.reset();
+            else if (guide_) throw std::runtime_error("guiding state is malformed");
+            return;
+        }
+        if (options_.guidingAuto) startGuide();
+        if (!guide_) throw std::runtime_error(what);
+        guide_->loadState(bytes);
+    };
+    if (!shares_) return loadGuide(state, "this integrator keeps no state");
     StateReader reader{state, 0};
     const uint64_t n = reader.get<uint64_t>();
     if (n > state.size() - reader.at) throw std::runtime_error("path tracer state is malformed");
-    if (guide_) guide_->loadState(state.substr(reader.at, size_t(n)));
-    else if (n != 0) throw std::runtime_error("path tracer state is malformed");
+    loadGuide(state.substr(reader.at, size_t(n)), "path tracer state is malformed");
     shares_->loadState(state.substr(reader.at + size_t(n)));
 }
 

@@ -98,6 +98,10 @@ struct BdptOptions {
     // (one_event_split.h), where the fixed tracer makes every strategy. false: the generic
     // weights over every strategy (as --strategy-images splits them).
     bool oneEventSplit = true;
+    // `--guiding auto` (efficiencyAware only): once the planner has chosen the path tracer for
+    // good and its connection shares are learnt, the path tracer inside starts a guide where
+    // enough passes follow (guide_start.h); its training passes stay in the image.
+    bool guidingAuto = false;
 };
 
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
@@ -134,8 +138,8 @@ public:
     const AllocationPlanner* planner() const { return planner_.get(); }
     // Light tracing's learned share of one-event paths (direct_light_tracing.h).
     const DirectLightTracing* directLightTracing() const { return direct_.get(); }
-    // The guide (`guiding`; else null), for --stats.
-    const PathGuide* guide() const { return options_.guiding ? pathTracer_.guide() : nullptr; }
+    // The guide (`guiding`, or `guidingAuto` once started; else null), for --stats.
+    const PathGuide* guide() const { return pathTracer_.guide(); }
     // The connection shares of the path tracer inside (BdptOptions::learnShares; else null),
     // for --stats.
     const ConnectionShares* connectionShares() const { return pathTracer_.connectionShares(); }
@@ -156,12 +160,17 @@ private:
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)
     bool guideTraining_ = false;   // this pass is one of the guide's training passes (pathTracer_)
     bool sharesPass_ = false;      // this pass teaches pathTracer_ its connection shares
+    GuideStart guideStart_;        // guidingAuto: whether enough passes follow
     bool splitting_ = false;       // this render's samples take the one-event split (beginPass)
     bool checkingDirect_ = false;  // this pass checks direct_'s factor with Sobol numbers (the split)
     mutable std::vector<FixedSum> leftOutSums_;  // the guide's and direct_'s left-out passes together
     // Passes before the bidirectional tracer's own: the guide's training passes (16, or fewer
     // when its records filled up first).
     int guidePasses() const { return options_.guiding ? pathTracer_.guide()->trainingPasses() : 0; }
+    // guidingAuto: whether the path tracer inside starts its guide before pass `pass`.
+    bool guideStartsAt(int pass) const;
+    // Whether the state holds the path tracer's (its guide's or its shares').
+    bool keepsPathTracerState() const;
     std::string saveOwnState() const;
     void loadOwnState(const std::string& state);
     // Whether pass `pass` is one the path tracer inside learns its shares from, while they are

@@ -24,6 +24,11 @@ struct IntegratorSettings {
     bool nextEventEstimation = true;
     // Path guiding (`--guiding on`, path_tracer.h and bdpt.h; not with EfficiencyAware).
     bool guiding = false;
+    // `--guiding auto` (the command's default; guide_start.h): the path tracer, and auto once
+    // it has chosen the path tracer, start a guide where the render is long enough. (The
+    // fixed bidirectional tracer does not: its guided camera walk did not pay on the scenes
+    // measured, docs/path-guiding.md.)
+    bool guidingAuto = false;
     int guidedDistanceDepth = -1;  // the path tracer's guided distances (PathTracerOptions)
     // The path tracer's next-event estimation towards emissive media (`--volume-lights`; also
     // the path tracer inside bdpt and auto).
@@ -32,7 +37,8 @@ struct IntegratorSettings {
     // media (connection_shares.h); false: always both (tests that need fixed weights).
     bool learnShares = true;
     // The passes the render will take, where known in advance (`--spp` without `--time`);
-    // 0: not known. auto holds its duel only where enough passes follow it (BdptOptions).
+    // 0: not known. auto holds its duel only where enough passes follow it (BdptOptions);
+    // --guiding auto starts a guide only where enough do (guide_start.h).
     int plannedPasses = 0;
     // The bidirectional tracer: its MIS heuristic, which strategies it makes and how often
     // (every one by default; `--allocation NAME` picks one of auto's candidates), and two

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "brume/integrators/connection_shares.h"
+#include "brume/integrators/guide_start.h"
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/path_guide.h"
 
@@ -53,6 +54,12 @@ struct PathTracerOptions {
     // and any sample taken outside a render).
     bool learnShares = false;
     ConnectionShares::Shares shares;
+    // `--guiding auto`: no guide at first; one starts before a pass once the render is long
+    // enough for it to pay (guide_start.h: plannedPasses, or the time budget's pace), and
+    // after the connection shares are learnt. The owner may start it instead (startGuide:
+    // auto, once it has chosen the path tracer).
+    bool guidingAuto = false;
+    int plannedPasses = 0;  // the render's passes where known (`--spp`); 0: not known
 };
 
 class PathTracer : public Integrator {
@@ -71,9 +78,18 @@ public:
     // sample with each path camera → medium point → light weighted by the split's W_C.
     Spectrum sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler, PathStats& stats,
                     const OneEventSplit* split) const;
+    // --guiding auto: starts the guide before this pass where it pays (guide_start.h).
+    void beginPass(const Scene& scene, int pass) override {
+        if (options_.guidingAuto && !guide_ && !sharesLearning() && start_.pays(pass)) startGuide();
+    }
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
         if (shares_) shares_->endPass(summary);
+        start_.endPass(summary);
+    }
+    // Starts learning a guide from the next pass on (between passes; once).
+    void startGuide() {
+        if (!guide_) guide_ = std::make_unique<PathGuide>(guideSettings(options_));
     }
     bool learning(int) const override { return (guide_ && guide_->learning()) || (shares_ && shares_->learning()); }
     // Inside the efficiency-aware tracer the shares learn only from the path tracer's own
@@ -102,6 +118,7 @@ private:
     std::unique_ptr<PathGuide> guide_;
     std::unique_ptr<ConnectionShares> shares_;
     bool sharesPaused_ = false;
+    GuideStart start_{options_.plannedPasses};  // --guiding auto
 };
 
 }  // namespace brume

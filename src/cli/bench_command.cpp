@@ -124,8 +124,16 @@ std::unique_ptr<Integrator> makeMethod(const BenchMethod& method, int maxDepth) 
     return makeIntegrator(s);
 }
 
-// The integrator of a choice: its method's, or bdpt:mis with a named allocation.
-std::unique_ptr<Integrator> makeChoice(const BenchChoice& choice, int maxDepth) {
+// The integrator of a choice: its method's, or bdpt:mis with a named allocation. With adaptive
+// stopping (`adaptive`), unguided where the method guides by --guiding auto, as brume render
+// leaves it (a guide started mid-render would learn from passes whose stopped pixels are black).
+std::unique_ptr<Integrator> makeChoice(const BenchChoice& choice, int maxDepth, bool adaptive = false) {
+    if (adaptive && choice.method->settings.guidingAuto && !choice.guided && choice.allocation.empty()) {
+        IntegratorSettings s = choice.method->settings;
+        s.maxDepth = maxDepth;
+        s.guidingAuto = false;
+        return makeIntegrator(s);
+    }
     if (choice.guided) {
         IntegratorSettings s = choice.method->settings;
         s.maxDepth = maxDepth;
@@ -637,7 +645,7 @@ bool timeToThreshold(const BenchArgs& a, Scene& scene, const std::vector<float>&
                 "efficiency", "vs_uniform");
     std::string csv = "scene,method,threshold,seconds,mean_spp,converged,estimated_rel_mse,rel_mse,efficiency,vs_uniform\n";
     for (const BenchChoice& choice : a.methods) {
-        std::unique_ptr<Integrator> integrator = makeChoice(choice, a.maxDepth);
+        std::unique_ptr<Integrator> integrator = makeChoice(choice, a.maxDepth, true);
         RenderOptions options;
         options.width = a.res.width;
         options.height = a.res.height;

@@ -532,15 +532,16 @@ TEST_CASE("auto with --guiding auto: the chosen path tracer starts a guide where
     CHECK(shortGuided == renderFrom(settings(false, 60), 2, 60, 60, nullptr));
 }
 
-// --guiding auto in the path tracer: with 64 passes or more planned it is `--guiding on`
-// (the guide from the first pass after the shares' 4), with fewer no guide.
+// --guiding auto in the path tracer: the guide from the first pass after the shares' 4 where
+// 64 passes or more follow; none with fewer, nor in single scattering (guide_start.h).
 TEST_CASE("pt with --guiding auto starts its guide after its shares where at least 64 passes follow", "[guiding]") {
     auto scene = loadTestScene("bdpt_window_fog.gltf");
-    auto run = [&](int planned, int passes) {
+    auto run = [&](int planned, int passes, int maxDepth = -1) {
         IntegratorSettings s;
         s.kind = IntegratorKind::PathTracer;
         s.guidingAuto = true;
         s.plannedPasses = planned;
+        s.maxDepth = maxDepth;
         auto pt = makeIntegrator(s);
         Film film(24, 16);
         RenderOptions o;
@@ -555,4 +556,6 @@ TEST_CASE("pt with --guiding auto starts its guide after its shares where at lea
     CHECK(run(68, 20));
     CHECK(!run(67, 20));
     CHECK(!run(0, 20));  // length not known
+    CHECK(run(68, 20, 2));
+    CHECK(!run(68, 20, 1));  // single scattering
 }

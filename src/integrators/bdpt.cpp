@@ -44,7 +44,7 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
           o.learnShares = options.learnShares && !options.guiding && (options.efficiencyAware || options.allocation.pathTracer);
           return o;
       }()),
-      guideStart_(options.plannedPasses) {
+      guideStart_(options.plannedPasses, options.maxDepth) {
     if (options_.guiding && options_.efficiencyAware)
         throw std::invalid_argument("path guiding takes the path tracer or the bidirectional tracer, not the efficiency-aware one");
     // The fixed tracer with light tracing learns light tracing's share of one-scattering paths

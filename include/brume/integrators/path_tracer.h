@@ -118,7 +118,7 @@ private:
     std::unique_ptr<PathGuide> guide_;
     std::unique_ptr<ConnectionShares> shares_;
     bool sharesPaused_ = false;
-    GuideStart start_{options_.plannedPasses};  // --guiding auto
+    GuideStart start_{options_.plannedPasses, options_.maxDepth};  // --guiding auto
 };
 
 }  // namespace brume

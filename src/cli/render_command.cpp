@@ -251,7 +251,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "it expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of "
               "pt). on: pt and bdpt from the first pass; auto (the default): pt, and auto once it has chosen "
               "the path tracer, start learning where at least 64 passes are still to come (--spp, or the time "
-              "left at the pace of the last pass), not under mpirun, --noise-threshold or --strategy-images",
+              "left at the pace of the last pass), not in single scattering (--max-depth 0 or 1), under mpirun, "
+              "--noise-threshold or --strategy-images",
               [&](const std::string& v) {
                   if (v != "on" && v != "off" && v != "auto")
                       throw UsageError("--guiding: expected on, off or auto, got '" + v + "'");

@@ -7,7 +7,9 @@
 # Names: fog_point, spot_cube, spot_wide, sun_window, area_fog, glass_fog, glow_box, vdb_volume,
 # fire_grid (the round-trip scenes), fire_smoke (fire_grid without its lamp: the fire alone
 # lights the smoke; for equal-time measurements, docs/results.md), area_visible (an area light
-# in the frame over back-scattering fog: a measured difference, docs/blender.md) and
+# in the frame over back-scattering fog: a measured difference, docs/blender.md), slit_room (a
+# closed fog room lit only through a narrow slit by a lamp outside; for equal-time
+# measurements, docs/results.md) and
 # bad_volume (an unsupported volume node: the bad-input test). Without names: all of them.
 # Every scene is set up for a comparison with brume: Cycles with a box pixel filter 1 px wide,
 # every bounce type at max_bounces, no clamping, no light threshold, no adaptive sampling, no
@@ -19,7 +21,7 @@ import sys
 import bpy
 
 SCENES = ["fog_point", "spot_cube", "spot_wide", "sun_window", "area_fog", "glass_fog", "glow_box", "vdb_volume",
-          "fire_grid", "fire_smoke", "area_visible", "bad_volume"]
+          "fire_grid", "fire_smoke", "area_visible", "slit_room", "bad_volume"]
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
 
 
@@ -295,6 +297,36 @@ def build(name, o):
              scale=(2.95, 2.95, 1.45))
         # Sun from -x, above: travels along (+0.8, +0.1, -0.6) roughly.
         light(sc, "sun", "SUN", (-5, 0, 5), 8.0, (1.0, 0.95, 0.85), rot=(0.0, -math.radians(55.0), math.radians(-8.0)))
+        camera(sc, (2.6, -2.6, 1.4), (-1.5, 0.8, 1.2), lens=20.0)
+    elif name == "slit_room":
+        # A closed room (6 x 6 x 3 m, grey walls) full of fog, lit only through a vertical slit
+        # (0.1 x 1.5 m) in its wall at x = -3 by a point lamp 1.5 m outside: most of the light
+        # that reaches the camera has bounced off the walls or scattered more than once.
+        black_world(sc)
+        wall = material("wall", "diffuse", color=(0.6, 0.6, 0.6))
+        plane("floor", 6, (0, 0, 0), wall)
+        plane("ceiling", 6, (0, 0, 3), wall, rot=(math.pi, 0, 0))
+        plane("back", 6, (0, 3, 1.5), wall, rot=(math.pi / 2, 0, 0))
+        plane("front", 6, (0, -3, 1.5), wall, rot=(-math.pi / 2, 0, 0))
+        plane("right", 6, (3, 0, 1.5), wall, rot=(0, -math.pi / 2, 0))
+        import bmesh
+        me = bpy.data.meshes.new("slit_wall")
+        bm = bmesh.new()
+        def quad(y0, y1, z0, z1):
+            v = [bm.verts.new((-3, y, z)) for y, z in ((y0, z0), (y0, z1), (y1, z1), (y1, z0))]
+            bm.faces.new(v)
+        quad(-3, -0.05, 0, 3)
+        quad(0.05, 3, 0, 3)
+        quad(-0.05, 0.05, 0, 0.75)
+        quad(-0.05, 0.05, 2.25, 3)
+        bm.to_mesh(me)
+        bm.free()
+        ob = bpy.data.objects.new("slit_wall", me)
+        sc.collection.objects.link(ob)
+        me.materials.append(wall)
+        cube("room_fog", 1.0, (0.0, 0.0, 1.5), volume_material("room_fog", ("scatter", (1.0, 1.0, 1.0), 0.2, 0.3)),
+             scale=(2.95, 2.95, 1.45))
+        light(sc, "lamp", "POINT", (-4.5, 0.0, 1.5), 2000.0, (1.0, 0.9, 0.8))
         camera(sc, (2.6, -2.6, 1.4), (-1.5, 0.8, 1.2), lens=20.0)
     elif name == "area_fog":
         # Principled Volume world fog, a rectangle and a disc area light.

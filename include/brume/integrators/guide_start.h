@@ -11,10 +11,11 @@
 // survival cost (thin fog, a point light in view, single scattering: 0.65× at 10 s, 0.34× at
 // 256 spp with `--guiding on`; in full transport the same scene gains 1.7×).
 //
-// Measured (docs/results.md, "The default guides"): where auto chooses the path tracer,
-// the guided one was 0.92–1.77× as efficient at 10 s (160×120), the loss on the god rays
-// within two seed pairs' noise. The planner does not rate guiding against its other
-// candidates: the guide starts only where the path tracer is chosen for good.
+// Measured (docs/results.md, "The default guides the path tracer it chooses"; 160×120, 10 s):
+// auto 1.15–1.52× as efficient where it guided (campfire, street, cumulus, two validation
+// scenes), pt 0.89–1.69× (geometric mean 1.17 over nine scenes). A rule, not a measurement:
+// the planner does not rate guiding against its other candidates, and the guide starts only
+// where the path tracer is chosen for good.
 #pragma once
 #include "brume/integrators/integrator.h"
 

@@ -211,6 +211,25 @@ def sphere(name, radius, loc, mat):
     return o
 
 
+def wall_with_hole(sc, name, mat, y0, y1, z0, z1):
+    """The 6 x 3 m wall at x = -3 (y in [-3, 3], z in [0, 3]) with a hole at y in [y0, y1], z in [z0, z1]."""
+    import bmesh
+    me = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    def quad(ya, yb, za, zb):
+        v = [bm.verts.new((-3, y, z)) for y, z in ((ya, za), (ya, zb), (yb, zb), (yb, za))]
+        bm.faces.new(v)
+    quad(-3, y0, 0, 3)
+    quad(y1, 3, 0, 3)
+    quad(y0, y1, 0, z0)
+    quad(y0, y1, z1, 3)
+    bm.to_mesh(me)
+    bm.free()
+    ob = bpy.data.objects.new(name, me)
+    sc.collection.objects.link(ob)
+    me.materials.append(mat)
+
+
 def camera(sc, loc, target, lens=35.0):
     cam = bpy.data.cameras.new("camera")
     cam.lens = lens
@@ -278,21 +297,7 @@ def build(name, o):
         plane("back", 6, (0, 3, 1.5), wall, rot=(math.pi / 2, 0, 0))
         plane("right", 6, (3, 0, 1.5), wall, rot=(0, -math.pi / 2, 0))
         # The window wall at x = -3 (normal +x) with a 1.2 x 1.0 hole at y in [-0.6, 0.6], z in [1.2, 2.2].
-        import bmesh
-        me = bpy.data.meshes.new("window_wall")
-        bm = bmesh.new()
-        def quad(y0, y1, z0, z1):
-            v = [bm.verts.new((-3, y, z)) for y, z in ((y0, z0), (y0, z1), (y1, z1), (y1, z0))]
-            bm.faces.new(v)
-        quad(-3, -0.6, 0, 3)
-        quad(0.6, 3, 0, 3)
-        quad(-0.6, 0.6, 0, 1.2)
-        quad(-0.6, 0.6, 2.2, 3)
-        bm.to_mesh(me)
-        bm.free()
-        ob = bpy.data.objects.new("window_wall", me)
-        sc.collection.objects.link(ob)
-        me.materials.append(wall)
+        wall_with_hole(sc, "window_wall", wall, -0.6, 0.6, 1.2, 2.2)
         cube("room_fog", 1.0, (0.0, 0.0, 1.5), volume_material("room_fog", ("scatter", (1.0, 1.0, 1.0), 0.15, 0.4)),
              scale=(2.95, 2.95, 1.45))
         # Sun from -x, above: travels along (+0.8, +0.1, -0.6) roughly.
@@ -309,21 +314,7 @@ def build(name, o):
         plane("back", 6, (0, 3, 1.5), wall, rot=(math.pi / 2, 0, 0))
         plane("front", 6, (0, -3, 1.5), wall, rot=(-math.pi / 2, 0, 0))
         plane("right", 6, (3, 0, 1.5), wall, rot=(0, -math.pi / 2, 0))
-        import bmesh
-        me = bpy.data.meshes.new("slit_wall")
-        bm = bmesh.new()
-        def quad(y0, y1, z0, z1):
-            v = [bm.verts.new((-3, y, z)) for y, z in ((y0, z0), (y0, z1), (y1, z1), (y1, z0))]
-            bm.faces.new(v)
-        quad(-3, -0.05, 0, 3)
-        quad(0.05, 3, 0, 3)
-        quad(-0.05, 0.05, 0, 0.75)
-        quad(-0.05, 0.05, 2.25, 3)
-        bm.to_mesh(me)
-        bm.free()
-        ob = bpy.data.objects.new("slit_wall", me)
-        sc.collection.objects.link(ob)
-        me.materials.append(wall)
+        wall_with_hole(sc, "slit_wall", wall, -0.05, 0.05, 0.75, 2.25)
         cube("room_fog", 1.0, (0.0, 0.0, 1.5), volume_material("room_fog", ("scatter", (1.0, 1.0, 1.0), 0.2, 0.3)),
              scale=(2.95, 2.95, 1.45))
         light(sc, "lamp", "POINT", (-4.5, 0.0, 1.5), 2000.0, (1.0, 0.9, 0.8))

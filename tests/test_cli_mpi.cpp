@@ -80,6 +80,26 @@ TEST_CASE("mpi: 2 and 3 ranks give the single-process image, bit for bit", "[mpi
     }
 }
 
+// --guiding auto (the default) with 72 passes: the path tracer starts its guide after its
+// shares (pass 4); every rank renders the training passes itself and starts the same guide,
+// so 2 ranks give the single-process image, which differs from the unguided one.
+TEST_CASE("mpi: --guiding auto guides as one process does", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string flags = kRender + "--spp 72 --seed 5 --integrator pt";
+    const std::string single = dir / "single.exr", off = dir / "off.exr", out = dir / "two.exr";
+    REQUIRE(runBrume(flags + " -o " + quote(single)).code == 0);
+    REQUIRE(runBrume(flags + " --guiding off -o " + quote(off)).code == 0);
+    CHECK(readFile(off) != readFile(single));
+    Run r = shell(mpirun(2) + quote(BRUME_EXE) + flags + " -o " + quote(out));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(readFile(out) == readFile(single));
+}
+
 TEST_CASE("mpi: a checkpoint made on 3 ranks resumes on 2 to the same bits", "[mpi][cli]") {
     if (!mpiAvailable()) {
         WARN("no MPI build or no mpirun: not run");

@@ -121,8 +121,8 @@ struct RenderArgs {
     ConnectMode connect = ConnectMode::Mis;
     bool guiding = false;    // --guiding on (pt)
     // --guiding auto (the default; guide_start.h): pt, and auto once it has chosen the path
-    // tracer, start a guide where enough passes follow. Resolved to off under mpirun, with
-    // --noise-threshold and with --strategy-images.
+    // tracer, start a guide where enough passes follow. Resolved to off with --noise-threshold,
+    // with --strategy-images and under mpirun with --time.
     bool guidingAuto = true;
     std::string guidingChoice = "auto";  // as given, for checkpoints
     int guidedDistances = -1;  // --guided-distances: the deepest vertex whose rays are guided (−1: off)
@@ -251,8 +251,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "it expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of "
               "pt). on: pt and bdpt from the first pass; auto (the default): pt, and auto once it has chosen "
               "the path tracer, start learning where at least 64 passes are still to come (--spp, or the time "
-              "left at the pace of the last pass), not in single scattering (--max-depth 0 or 1), under mpirun, "
-              "--noise-threshold or --strategy-images",
+              "left at the pace of the last pass), not in single scattering (--max-depth 0 or 1), with "
+              "--noise-threshold or --strategy-images, or under mpirun with --time",
               [&](const std::string& v) {
                   if (v != "on" && v != "off" && v != "auto")
                       throw UsageError("--guiding: expected on, off or auto, got '" + v + "'");
@@ -633,9 +633,9 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         throw UsageError("--noise-threshold needs a single process (not mpirun): pixels are chosen from the whole film between passes");
     if (group.distributed() && a.aovVariance)
         throw UsageError("--aov variance needs a single process (not mpirun): the ranks' films keep no squares");
-    // Every rank would decide from its own pace under a time budget, and the ranks would have
-    // to share the training passes (as with --guiding on): --guiding auto stays off.
-    if (group.distributed()) a.guidingAuto = false;
+    // Under a time budget every rank would decide from its own pace: --guiding auto stays off.
+    // (With --spp every rank renders the training passes itself, below, as with --guiding on.)
+    if (group.distributed() && a.seconds > 0) a.guidingAuto = false;
     try {
         imageFormatFor(a.output);
     } catch (const std::invalid_argument& e) {
@@ -774,11 +774,17 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // tracer"`.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
         const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
-        plan.pilotEnd = bdptOptions.efficiencyAware ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses)
-                        : learns                    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
-                        : a.guiding                 ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
-                        : learnsShares              ? std::max(donePasses, ConnectionShares::kLearningPasses)
-                                                    : donePasses;
+        // And --guiding auto (with --spp: every rank starts the guide at the same pass, after
+        // the shares and auto's choice, guide_start.h) the guide's training passes after them,
+        // where a guide may start (passes that every rank then renders in vain where none does).
+        const bool mayGuide = a.guidingAuto && a.spp >= GuideStart::kAutoPasses && (a.maxDepth < 0 || a.maxDepth >= 2);
+        const int autoGuidePasses = mayGuide ? PathGuide::kLastFitPass : 0;
+        plan.pilotEnd = bdptOptions.efficiencyAware
+                            ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses + autoGuidePasses)
+                        : learns    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
+                        : a.guiding ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
+                        : learnsShares || autoGuidePasses > 0 ? std::max(donePasses, sharePasses + autoGuidePasses)
+                                                              : donePasses;
         options.progress = false;
         auto interrupted = [&] {
             if (lead && a.stopAfterPasses > 0 && film.passes() - donePasses >= a.stopAfterPasses) ::raise(SIGTERM);

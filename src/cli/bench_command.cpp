@@ -87,11 +87,12 @@ IntegratorSettings bdpt(ConnectMode connect, bool exactEquiAngular = false, bool
 }
 
 // The default of brume render: auto, which starts a guide once it has chosen the path tracer
-// where enough passes follow (--guiding auto). The fixed methods render unguided (METHOD:guided:
-// from the first pass).
+// where enough passes follow (--guiding auto), with its partial pilot pass. The fixed methods
+// render unguided (METHOD:guided: from the first pass).
 IntegratorSettings byDefault() {
     IntegratorSettings s;
     s.guidingAuto = true;
+    s.partialPilot = true;
     return s;
 }
 
@@ -126,12 +127,14 @@ std::unique_ptr<Integrator> makeMethod(const BenchMethod& method, int maxDepth) 
 
 // The integrator of a choice: its method's, or bdpt:mis with a named allocation. With adaptive
 // stopping (`adaptive`), unguided where the method guides by --guiding auto, as brume render
-// leaves it (a guide started mid-render would learn from passes whose stopped pixels are black).
+// leaves it (a guide started mid-render would learn from passes whose stopped pixels are black),
+// and with a whole pilot (the film tracks noise: BdptOptions::partialPilot).
 std::unique_ptr<Integrator> makeChoice(const BenchChoice& choice, int maxDepth, bool adaptive = false) {
     if (adaptive && choice.method->settings.guidingAuto && !choice.guided && choice.allocation.empty()) {
         IntegratorSettings s = choice.method->settings;
         s.maxDepth = maxDepth;
         s.guidingAuto = false;
+        s.partialPilot = false;
         return makeIntegrator(s);
     }
     if (choice.guided) {

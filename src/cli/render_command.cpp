@@ -544,6 +544,8 @@ IntegratorSettings integratorSettings(const RenderArgs& a) {
     method.nextEventEstimation = a.nee;
     method.guiding = a.guiding;
     method.guidingAuto = a.guidingAuto;
+    // (Not where the film tracks noise: BdptOptions::partialPilot.)
+    method.partialPilot = a.noiseThreshold <= 0 && !a.aovVariance && a.strategyDir.empty();
     method.guidedDistanceDepth = a.guidedDistances;
     method.volumeLights = a.volumeLights;
     method.heuristic = a.heuristic;

@@ -22,8 +22,11 @@ constexpr double kCombinedOverstates = 2;  // more than M through the pilot's we
 
 }  // namespace
 
-AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare, int plannedPasses)
-    : candidates_(candidateAllocations(connect)), learnedShare_(learnedShare), plannedPasses_(plannedPasses) {
+AllocationPlanner::AllocationPlanner(ConnectMode connect, bool learnedShare, int plannedPasses, bool partialPilot)
+    : candidates_(candidateAllocations(connect)),
+      learnedShare_(learnedShare),
+      plannedPasses_(plannedPasses),
+      partial_(partialPilot && !learnedShare && (plannedPasses == 0 || plannedPasses >= kPartialFrom)) {
     static_assert(AllocationMoments::kCandidates >= 31, "a moment per candidate");
     BdptAllocation pilot = pilotAllocation();
     if (connect == ConnectMode::Density) pilot.equiAngularLight = pilot.equiAngularCamera = false;
@@ -51,7 +54,9 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
     if (chosen_ < 0 && s.pass <= lastDecisionPass())
-        addPassExact(s, leftOut_[s.pass < duelStart() ? 0 : 1 + (s.pass - duelStart()) / AllocationDuel::kPasses]);
+        addPassExact(s, partial_ && s.pass == decisionPass()
+                            ? partialSums_
+                            : leftOut_[s.pass < duelStart() ? 0 : 1 + (s.pass - duelStart()) / AllocationDuel::kPasses]);
     if (s.pass > decisionPass()) {
         if (dueling() && chosen_ < 0 && s.pass <= lastDecisionPass() && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
             std::vector<float> image;
@@ -80,6 +85,9 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         sumSq_[i] += double(image[i]) * double(image[i]);
     }
     ++passes_;
+    // With a partial pilot the whole pass 0 counts the rays (the collecting pass renders the
+    // camera side at a quarter of the pixels), the collecting pass the path tracer's probe.
+    if (partial_ && s.pass == 0) counts_.add(s.totals.counts);
     if (s.pass == kWeightPasses - 1) {
         // Ī: the mean of the passes so far, box-filtered.
         const int W = width_, H = height_;
@@ -99,7 +107,13 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     }
     if (!collects(s.pass) || weights_.empty()) return;
     moments_.add(s.totals.moments);
-    counts_.add(s.totals.counts);
+    if (partial_) {
+        PathCounts probe;
+        probe.pt = s.totals.counts.pt;
+        counts_.add(probe);
+    } else {
+        counts_.add(s.totals.counts);
+    }
     samples_ += uint64_t(s.width) * uint64_t(s.height);
     if (++collected_ == collectPasses()) decide();
 }
@@ -215,13 +229,19 @@ std::vector<double> AllocationPlanner::ownSquares() const {
 
 void AllocationPlanner::decide() {
     // The pilot's variance of one pass, measured: per pixel and channel, the unbiased sample
-    // variance of its (independent) pilot passes, weighted.
+    // variance of its (independent) pilot passes, weighted. With a partial pilot at the
+    // recording pixels alone (the others' values of the partial pass are not whole), ×4 as the
+    // moments are.
     double pilotVariance = 0, pilotSecond = 0, pilotMean = 0;
+    const double pixelScale = partial_ ? 4.0 : 1.0;
     for (size_t i = 0; i < sum_.size(); ++i) {
+        const size_t pixel = i / 3;
+        if (partial_ && !collectsPixel(int(pixel % size_t(width_)), int(pixel / size_t(width_)))) continue;
         const double n = passes_, v = (sumSq_[i] - sum_[i] * sum_[i] / n) / (n - 1);
-        pilotVariance += double(weights_[i]) * std::max(v, 0.0);
-        pilotSecond += double(weights_[i]) * sumSq_[i] / n;
-        pilotMean += double(weights_[i]) * sum_[i] / n;
+        const double w = double(weights_[i]) * pixelScale;
+        pilotVariance += w * std::max(v, 0.0);
+        pilotSecond += w * sumSq_[i] / n;
+        pilotMean += w * sum_[i] / n;
     }
     // In single scattering nothing was recorded: the duel decides (header), and the
     // candidates keep only their counted costs.
@@ -304,8 +324,8 @@ double AllocationPlanner::leftOutNoise() const {
     if (chosen_ < 0 || !dueling()) return 0.0;
     const int won = chosen_ == duelists_[0] ? 0 : 1;
     const double mine = duel_.variance(won, 0), loser = duel_.variance(1 - won, 0);
-    const double theirs = pilotLeftOut() ? (duelStart() * pilotVariance_ + AllocationDuel::kPasses * loser) /
-                                               (duelStart() + AllocationDuel::kPasses)
+    const double theirs = pilotLeftOut() ? (pilotGroupPasses() * pilotVariance_ + AllocationDuel::kPasses * loser) /
+                                               (pilotGroupPasses() + AllocationDuel::kPasses)
                                          : loser;
     return mine > 0 ? theirs / mine : 0.0;
 }
@@ -320,10 +340,17 @@ double AllocationPlanner::leftOutNoise() const {
 // won, the bidirectional tracer's passes and the pilot's are less noisy per pass, and leaving
 // them out cost 1.4–1.8× in the forward fog: they follow the rules for passes of unknown
 // worth.
+// The partial pilot pass (partialAt) is left out always, decided or not.
 Integrator::LeftOutPasses AllocationPlanner::leftOut() const {
-    if (leftOutPasses() == 0) return {};
-    Integrator::LeftOutPasses out{leftOutPasses_, &leftOut_[0], leftOutNoise()};
-    out.always = out.noise > 1;
+    Integrator::LeftOutPasses out;
+    if (leftOutPasses() > 0) {
+        out = Integrator::LeftOutPasses{leftOutPasses_, &leftOut_[0], leftOutNoise()};
+        out.always = out.noise > 1;
+    }
+    if (partial_ && !partialSums_.empty()) {
+        out.partialPasses = 1;
+        out.partialSums = &partialSums_;
+    }
     return out;
 }
 
@@ -338,7 +365,7 @@ void AllocationPlanner::keepLeftOut() {
             for (size_t i = 0; i < out.size() && i < sums.size(); ++i) out[i] += sums[i];
         leftOutPasses_ += passes;
     };
-    if (pilotLeftOut()) add(leftOut_[0], duelStart());
+    if (pilotLeftOut()) add(leftOut_[0], pilotGroupPasses());
     if (dueling()) add(leftOut_[chosen_ == duelists_[0] ? 2 : 1], AllocationDuel::kPasses);
     for (std::vector<FixedSum>& v : leftOut_) v = std::vector<FixedSum>();
     leftOut_[0] = std::move(out);
@@ -565,15 +592,16 @@ std::string AllocationPlanner::report() const {
     return out;
 }
 
-// State: "BAP8", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
+// State: "BAP9", then u8 whether the path tracer is probed (setPathTracerProbe: set from the
 // scene before each pass, but loadState re-derives the choice before any pass, and without it
 // a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32), ownParts (f32), ownSquares (f64); then the duel's (AllocationDuel::save); then i32
-// passes left out and (u64 n, n × i128) for each of the three left-out sums.
+// passes left out and (u64 n, n × i128) for each of the three left-out sums and the partial
+// pilot pass's.
 
 std::string AllocationPlanner::saveState() const {
-    std::string out = "BAP8";
+    std::string out = "BAP9";
     putBytes(out, uint8_t(probe_ ? 1 : 0));
     putBytes(out, int32_t(pilotChoice_));
     putBytes(out, int32_t(chosen_));
@@ -594,11 +622,12 @@ std::string AllocationPlanner::saveState() const {
     duel_.save(out);
     putBytes(out, int32_t(leftOutPasses_));
     for (const std::vector<FixedSum>& v : leftOut_) putVector(out, v);
+    putVector(out, partialSums_);
     return out;
 }
 
 void AllocationPlanner::loadState(const std::string& state) {
-    if (state.size() < 4 || state.compare(0, 4, "BAP8") != 0) throw std::runtime_error("not an allocation state");
+    if (state.size() < 4 || state.compare(0, 4, "BAP9") != 0) throw std::runtime_error("not an allocation state");
     StateReader r{state, 4};
     const uint8_t probe = r.get<uint8_t>();
     if (probe > 1) throw std::runtime_error("allocation state is malformed");
@@ -631,7 +660,10 @@ void AllocationPlanner::loadState(const std::string& state) {
         v = r.getVector<FixedSum>(values);
         if (!v.empty() && v.size() != values) throw std::runtime_error("allocation state is malformed");
     }
-    if (leftOutPasses < 0 || leftOutPasses > kMaxLastDecisionPass + 1) throw std::runtime_error("allocation state is malformed");
+    std::vector<FixedSum> partialSums = r.getVector<FixedSum>(values);
+    if ((!partialSums.empty() && (partialSums.size() != values || !partial_)) || leftOutPasses < 0 ||
+        leftOutPasses > kMaxLastDecisionPass + 1)
+        throw std::runtime_error("allocation state is malformed");
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
     pilotChoice_ = chosen_ = -1;
     probe_ = probe != 0;
@@ -648,6 +680,7 @@ void AllocationPlanner::loadState(const std::string& state) {
     }
     leftOutPasses_ = leftOutPasses;
     for (int k = 0; k < 3; ++k) leftOut_[k] = std::move(leftOut[k]);
+    partialSums_ = std::move(partialSums);
 }
 
 }  // namespace brume

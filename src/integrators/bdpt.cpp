@@ -59,7 +59,7 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
         if (variantOnly(options_.connect))
             throw std::invalid_argument("the efficiency-aware tracer takes --connect mis or density, not equiangular or product");
         planner_ = std::make_unique<AllocationPlanner>(options_.connect, learnable && options_.maxDepth == 1,
-                                                       options_.plannedPasses);
+                                                       options_.plannedPasses, options_.partialPilot);
         options_.allocation = planner_->allocationFor(0);
     }
     if (planner_ ? planner_->learnedShare() : learnable && options_.allocation.lightSubpaths && options_.allocation.lightTracing)
@@ -109,6 +109,7 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     planner_->setPathTracerProbe(scene.mediumChannels() > 1 || ownStrategies);
     options_.allocation = planner_->allocationFor(pass);
     collecting_ = planner_->collects(pass) && planner_->ratesCandidates();
+    partialPass_ = planner_->partialAt(pass);
 }
 
 double BdptIntegrator::lightSubpathsMade() const {
@@ -275,10 +276,17 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // The transparent emitters its rays cross (emitter_crossing.h).
     thread_local std::vector<CrossingVertex> crossings;
     crossings.clear();
-    const int nCamera = traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero, sampler,
-                                          camera, stats, field, field ? guide->pixelEstimate(pixel, width, height) : -1.0f,
-                                          options_.heuristic, volumeLightsUpTo,
-                                          scene.hasTransparentEmitters() ? &crossings : nullptr);
+    // auto's partial pilot pass: a pixel that does not record makes its light subpath's camera
+    // connections alone, towards the recording pixels (AllocationPlanner::partialAt).
+    const int px = int(fx), py = int(fy);
+    const bool lightSideOnly = partialPass_ && !AllocationPlanner::collectsPixel(px, py);
+    const int nCamera = lightSideOnly
+                            ? cameraVertexOnly(scene, fx, fy, width, height, camera)
+                            : traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero,
+                                                 sampler, camera, stats, field,
+                                                 field ? guide->pixelEstimate(pixel, width, height) : -1.0f,
+                                                 options_.heuristic, volumeLightsUpTo,
+                                                 scene.hasTransparentEmitters() ? &crossings : nullptr);
     const uint64_t rays1 = stats.rays;
     // The light subpaths of a pass splat all over the image: their numbers come from one
     // sequence for the image (Sampler::imageWide), so that with Sobol a pass's light subpaths
@@ -312,7 +320,6 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     }
     // The efficiency-aware tracer's statistics passes: every second pixel records its
     // contributions, whose second moments under each candidate are summed after the sample.
-    const int px = int(fx), py = int(fy);
     const bool collect = collecting_ && weighted && AllocationPlanner::collectsPixel(px, py);
     thread_local std::vector<WeightRecord> records;
     records.clear();
@@ -323,16 +330,17 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     TechniqueSample techniques;
     const StrategyContext c{scene,  options_, mis,   camera, nCamera, light, nLight, weighted,
                             sampler, stats,   width, height, collect ? &records : nullptr,
-                            learning ? direct_.get() : nullptr, &directCamera, &techniques};
+                            learning ? direct_.get() : nullptr, &directCamera, &techniques, lightSideOnly};
 
     // What the camera walk's rays gathered from emissive media: paths no other strategy makes.
-    Spectrum L = options_.hooks.onlyS < 0 ? mediumEmission(c) : Spectrum(0.0f);
-    if (volumeLightsUpTo > 0) L += volumeLightConnections(c, volumeLightsUpTo);
+    Spectrum L = options_.hooks.onlyS < 0 && !lightSideOnly ? mediumEmission(c) : Spectrum(0.0f);
+    if (volumeLightsUpTo > 0 && !lightSideOnly) L += volumeLightConnections(c, volumeLightsUpTo);
     // t = nCamera + 1 exists only for equi-angular vertices on the walk's last, escaped ray;
     // likewise s = nLight + 1 for equi-angular camera connections on the light walk's.
     const bool anyEquiAngular = options_.connect != ConnectMode::Density;
     for (int t = 1; t <= nCamera + (anyEquiAngular ? 1 : 0); ++t) {
         // (A subpath that filled its array has no slot after it, so no ray record.)
+        if (lightSideOnly && t > 1) break;  // (z0 alone: camera connections only)
         if (t > nCamera && (nCamera >= kMaxSubpathVertices || !camera[t - 1].ghost)) break;
         // s = 1 draws a fresh light sample, so it runs even when the light subpath is empty.
         for (int s = 0; s <= std::max(nLight, 1) + (anyEquiAngular && t == 1 ? 1 : 0); ++s) {

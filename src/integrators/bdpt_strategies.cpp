@@ -3,6 +3,7 @@
 #include <cstring>
 #include <type_traits>
 
+#include "brume/integrators/allocation_planner.h"
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/integrators/bdpt_subpaths.h"
 #include "brume/integrators/light_numbers.h"
@@ -401,6 +402,7 @@ void cameraConnection(const StrategyContext& c, int s, SplatList& splats) {
         const PathVertex& y = c.light[s - 1];
         CameraConnection cc;
         if (!connectToCamera(cam, y.p, c.width, c.height, &cc)) continue;
+        if (c.recordingPixelsOnly && !AllocationPlanner::collectsPixel(int(cc.fx), int(cc.fy))) continue;
         const Vec3 toCam = cc.wi;
         Spectrum f;
         if (y.kind == VertexKind::Light) {

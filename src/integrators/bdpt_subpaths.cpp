@@ -31,12 +31,12 @@ PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 
     return y0;
 }
 
-int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
-                       int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
-                       const GuidingField* guide, float pixelValue, MisHeuristic heuristic, int volumeLightsUpTo,
-                       std::vector<CrossingVertex>* crossings) {
+namespace {
+
+// z0, the pinhole, and the camera ray through film position (fx, fy).
+Ray startCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, PathVertex* path) {
     const Camera& cam = scene.camera();
-    Ray ray = cam.generateRay(fx, fy, width, height);
+    const Ray ray = cam.generateRay(fx, fy, width, height);
     PathVertex& z0 = path[0];
     z0 = PathVertex{};
     z0.kind = VertexKind::Camera;
@@ -44,6 +44,22 @@ int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int he
     z0.ng = cam.forward;
     z0.media = scene.cameraMedia();
     z0.beta = Spectrum(1.0f);  // We·cosθ / p_dir = 1 for the pinhole
+    return ray;
+}
+
+}  // namespace
+
+int cameraVertexOnly(const Scene& scene, float fx, float fy, int width, int height, PathVertex* path) {
+    startCameraSubpath(scene, fx, fy, width, height, path);
+    return 1;
+}
+
+int traceCameraSubpath(const Scene& scene, float fx, float fy, int width, int height, int maxScatter, int passFrom,
+                       int passFirstAt, int hero, const Sampler& sampler, PathVertex* path, PathStats& stats,
+                       const GuidingField* guide, float pixelValue, MisHeuristic heuristic, int volumeLightsUpTo,
+                       std::vector<CrossingVertex>* crossings) {
+    const Camera& cam = scene.camera();
+    const Ray ray = startCameraSubpath(scene, fx, fy, width, height, path);
     WalkStart start{leaving(ray.o, Vec3(0.0f), ray.d), scene.cameraMedia(), Spectrum(1.0f),
                     cameraPdfDir(cam, ray.d, width, height), width, height, dim::Side::Camera, hero, passFrom, passFirstAt,
                     guide, pixelValue, heuristic, volumeLightsUpTo, crossings};

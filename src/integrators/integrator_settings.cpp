@@ -39,6 +39,7 @@ BdptOptions bdptOptions(const IntegratorSettings& s) {
     o.learnShares = s.learnShares;
     o.plannedPasses = s.plannedPasses;
     o.oneEventSplit = s.oneEventSplit;
+    o.partialPilot = s.partialPilot;
     return o;
 }
 

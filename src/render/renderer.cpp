@@ -420,8 +420,8 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
 
 std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler) {
     const Integrator::LeftOutPasses out = integrator.leftOut();
-    const int others = film.passes() - out.passes;
-    if (out.passes <= 0 || !out.sums || others <= 0) return film.rgb();
+    const int partial = out.partialSums ? out.partialPasses : 0;
+    const int others = film.passes() - out.passes - partial;
     // Per pixel, with the passes it keeps without them (fewer where adaptive sampling stopped it).
     auto leaveOut = [&](int n) {
         if (out.always) return true;
@@ -429,6 +429,16 @@ std::vector<float> finalImage(const Film& film, const Integrator& integrator, Sa
         const bool outnumbered = sampler == SamplerKind::Sobol && n >= kLeftOutRatio * out.passes;
         return noisier || outnumbered;
     };
+    const bool group = out.passes > 0 && out.sums && others > 0;
+    if (partial > 0) {  // always out, with the others where they are
+        if (film.tracksNoise())
+            throw std::logic_error("finalImage: a film that tracks noise holds a pass of part of the image");
+        if (!group || !leaveOut(others)) return film.rgbWithout(partial, *out.partialSums);
+        std::vector<FixedSum> both = *out.sums;
+        for (size_t i = 0; i < both.size() && i < out.partialSums->size(); ++i) both[i] += (*out.partialSums)[i];
+        return film.rgbWithout(out.passes + partial, both);
+    }
+    if (!group) return film.rgb();
     if (!film.tracksNoise()) return leaveOut(others) ? film.rgbWithout(out.passes, *out.sums) : film.rgb();
     return film.rgbWithout(out.passes, *out.sums, leaveOut);
 }

@@ -13,7 +13,9 @@
 //   pass 1        also: every second pixel in x and y records its contributions, for the
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays (passes 1–3 count, and record nothing, in
-//                 single scattering, where no estimate decides);
+//                 single scattering, where no estimate decides); with a partial pilot
+//                 (partialAt) only the recording pixels render their camera side, the
+//                 image always leaves the pass out, and pass 0 counts the rays;
 //   passes 2–17   (4–19) the duel (allocation_duel.h), where the pilot rated the best
 //                 bidirectional allocation with light subpaths and the path tracer within
 //                 16× of each other:
@@ -96,7 +98,10 @@ public:
     // pilot's allocation with that share, and the duel alone decides (decideDuel).
     // plannedPasses: the passes the render will take (0: not known); in full transport the
     // duel is held only if at least 2·AllocationDuel::kPasses passes follow it (startDuel).
-    explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false, int plannedPasses = 0);
+    // partialPilot: in full transport, the pilot's collecting pass renders only what its
+    // recording pixels need (partialAt), where the render is long enough (kPartialFrom).
+    explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false, int plannedPasses = 0,
+                               bool partialPilot = false);
     bool learnedShare() const { return learnedShare_; }
     // How often that contender traces a light subpath (for the report); told before each pass.
     void setLightShare(double q) { lightShare_ = q; }
@@ -121,6 +126,17 @@ public:
         return pass <= decisionPass() ? SamplerKind::Independent : requested;
     }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
+    // Whether pass `pass` is the partial pilot pass: only the recording pixels render their
+    // camera side (camera walk, light and general connections), while every pixel traces its
+    // light subpath, whose camera connections reach only the recording pixels. Those pixels'
+    // values are then whole pass values, as the statistics and the spread that measures
+    // V_pilot need; the others are not, so the image leaves the pass out always (leftOut).
+    // Why: the pilot's two passes of every strategy took 10–13 % of a 4-s render at 160×120;
+    // the camera side is about 3/4 of a pilot pass's rays. Only where a render is known to be
+    // long enough (at least kPartialFrom passes, or a time budget) that the pilot's passes
+    // would be outnumbered and left out of a Sobol image anyway (renderer.h, kLeftOutRatio).
+    static constexpr int kPartialFrom = 16;
+    bool partialAt(int pass) const { return partial_ && pass == decisionPass() && pilotChoice_ < 0; }
     // The index of pass `pass` in the sequence of a sampler of kind `kind`. With Sobol the
     // pilot's passes (independent numbers) take none; each of the duel's contenders starts at
     // 0 (an aligned block of 8), and the allocation chosen continues its own sequence: the
@@ -212,12 +228,16 @@ private:
     double duelCost(int c) const;
     std::string duelistName(int c) const;
     bool pilotLeftOut() const;
+    // The pilot's passes that the image may leave out or keep (the partial one is always out).
+    int pilotGroupPasses() const { return duelStart() - (partial_ ? 1 : 0); }
 
     std::vector<BdptAllocation> candidates_;
     int pilot_ = 0;
     bool probe_ = false;
     bool learnedShare_ = false;
     int plannedPasses_ = 0;
+    bool partial_ = false;                 // partialAt
+    std::vector<FixedSum> partialSums_;    // the partial pass's exact sums (always left out)
     // Under a time budget (PassSummary): the pilot's first pass's seconds, the budget, and the
     // duel's estimated seconds per contender (startDuel; not in the saved state: checkpoints
     // and MPI ranks count passes, with no budget here).

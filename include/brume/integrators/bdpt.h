@@ -102,6 +102,11 @@ struct BdptOptions {
     // good and its connection shares are learnt, the path tracer inside starts a guide where
     // enough passes follow (guide_start.h); its training passes stay in the image.
     bool guidingAuto = false;
+    // efficiencyAware: the pilot's collecting pass renders the camera side at its recording
+    // pixels alone and is always left out of the image (AllocationPlanner::partialAt), where
+    // the render is long enough. Not for a film that tracks noise (adaptive stopping, the
+    // variance layer): its per-pixel squares would hold that pass.
+    bool partialPilot = false;
 };
 
 // Per pass, how many samples each kind of strategy contributed to (a nonzero weighted
@@ -155,6 +160,7 @@ private:
     std::unique_ptr<AllocationPlanner> planner_;
     PathTracer pathTracer_;  // for BdptOptions::pathTracer
     bool collecting_ = false;  // this pass records statistics (planner_)
+    bool partialPass_ = false; // this pass is the planner's partial pilot pass (partialAt)
     std::unique_ptr<DirectLightTracing> direct_;
     bool learningDirect_ = false;  // this pass gathers direct_'s images
     bool usesShare_ = false;       // this pass weights with direct_'s share (auto: the pilot's allocation)

@@ -42,6 +42,10 @@ struct StrategyContext {
     Spectrum* directCamera = nullptr;
     // What each technique adds to the sample's own pixel (--stats, technique_sums.h).
     TechniqueSample* techniques = nullptr;
+    // auto's partial pilot pass (AllocationPlanner::partialAt), at a pixel that does not
+    // record: its light subpath's camera connections reach only the recording pixels (the
+    // others' values of that pass are left out of the image), so no ray is traced for the rest.
+    bool recordingPixelsOnly = false;
 };
 
 // What the camera walk's rays gathered from emissive media (PathVertex::edgeEmission), the

@@ -22,6 +22,10 @@ constexpr int kMaxSubpathVertices = 1024;  // per subpath; Russian roulette ends
 // and beta = 1/pdfFwd.
 PathVertex makeLightVertex(const Scene& scene, int li, float pick, Vec3 p, Vec3 n, float pdfPos);
 
+// The camera subpath's first vertex alone, z0 (the pinhole), for strategies that connect
+// light subpaths to the camera and nothing else (auto's partial pilot pass). Returns 1.
+int cameraVertexOnly(const Scene& scene, float fx, float fy, int width, int height, PathVertex* path);
+
 // Camera subpath through film position (fx, fy); at most maxScatter vertices past z0. From
 // vertex passFrom on, and at passFirstAt after a vertex that is not specular, the walk passes
 // through media (WalkStart). Returns the vertex count, z0 included. hero: the colour channel

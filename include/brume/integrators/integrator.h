@@ -78,6 +78,11 @@ public:
         const std::vector<FixedSum>* sums = nullptr;
         double noise = 0;  // their variance per pass over the others' (0: not known)
         bool always = false;  // left out whatever their share (measured noisier: auto's duel)
+        // Passes that rendered part of the image (auto's partial pilot pass,
+        // AllocationPlanner::partialAt), left out always, besides the ones above; a film with
+        // such a pass does not track noise (BdptOptions::partialPilot).
+        int partialPasses = 0;
+        const std::vector<FixedSum>* partialSums = nullptr;
     };
     virtual LeftOutPasses leftOut() const { return {}; }
     virtual void endPass(const Scene& scene, const PassSummary& summary) {}

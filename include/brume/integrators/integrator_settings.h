@@ -49,6 +49,9 @@ struct IntegratorSettings {
     // The fixed bidirectional tracer's single-scattering split (BdptOptions::oneEventSplit);
     // off where --strategy-images shows the generic strategies, so that they add up to the image.
     bool oneEventSplit = true;
+    // auto's partial pilot pass (BdptOptions::partialPilot); `brume render` and `brume bench`
+    // take it where the film does not track noise.
+    bool partialPilot = false;
 };
 
 // "pt", "bdpt" or "auto"; false for anything else.

@@ -7,6 +7,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -59,30 +61,47 @@ Rendered renderPartial(const Scene& scene, int W, int H, int spp, int threads) {
 
 }  // namespace
 
-TEST_CASE("auto's partial pilot pass traces the camera side at the recording pixels alone", "[auto][allocation]") {
+// Each pilot pass against the same pass of a whole pilot (the same seed): the camera walk
+// at a quarter of the pixels, the light subpaths at every pixel (their rays in RenderStats::rays,
+// their counts apart from the recording pixels', which are what RenderStats::counts holds).
+TEST_CASE("auto's partial pilot passes trace the camera side at the recording pixels alone", "[auto][allocation]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     const int W = 40, H = 30;
+    auto pilotPasses = [&](bool partial, int planned, RenderStats* two, int* partialPasses) {
+        BdptIntegrator integrator(partialOptions(partial, planned));
+        Film film(W, H);
+        for (int pass = 0; pass < 2; ++pass) two[pass] = render(*scene, integrator, passes(W, H, 1), film);
+        *partialPasses = integrator.leftOut().partialPasses;
+    };
+    RenderStats whole[2];
+    int none = -1;
+    pilotPasses(false, 0, whole, &none);
+    CHECK(none == 0);
     struct Case {
-        bool partial;
         int planned;
         bool expectPartial;
     };
-    for (const Case& k : {Case{true, 0, true}, Case{true, 64, true}, Case{true, 8, false}, Case{false, 0, false}}) {
-        BdptIntegrator integrator(partialOptions(k.partial, k.planned));
-        Film film(W, H);
-        const RenderStats first = render(*scene, integrator, passes(W, H, 1), film);
-        const RenderStats second = render(*scene, integrator, passes(W, H, 1), film);
-        const double camera = double(second.counts.bdpt.cameraWalkRays) / double(first.counts.bdpt.cameraWalkRays);
-        const double light = double(second.counts.bdpt.lightWalkRays) / double(first.counts.bdpt.lightWalkRays);
-        INFO("partialPilot " << k.partial << ", planned " << k.planned << ": camera walk rays " << camera
-                             << "x the first pass's, light walk rays " << light << "x");
-        if (k.expectPartial) {
-            CHECK(camera == Approx(0.25).margin(0.05));  // (every second pixel in x and y)
-        } else {
-            CHECK(camera == Approx(1.0).margin(0.1));
+    for (const Case& k : {Case{0, true}, Case{64, true}, Case{8, false}}) {
+        RenderStats two[2];
+        int partialPasses = -1;
+        pilotPasses(true, k.planned, two, &partialPasses);
+        CHECK(partialPasses == (k.expectPartial ? 2 : 0));
+        for (int pass = 0; pass < 2; ++pass) {
+            const double camera = double(two[pass].counts.bdpt.cameraWalkRays) / double(whole[pass].counts.bdpt.cameraWalkRays);
+            const double light = double(two[pass].counts.bdpt.lightWalkRays) / double(whole[pass].counts.bdpt.lightWalkRays);
+            const double rays = double(two[pass].rays) / double(whole[pass].rays);
+            INFO("planned " << k.planned << ", pass " << pass << ": camera walk rays " << camera << "x the whole pass's, "
+                            << "light walk rays counted " << light << "x, all rays " << rays << "x");
+            if (k.expectPartial) {
+                CHECK(camera == Approx(0.25).margin(0.05));  // (every second pixel in x and y)
+                CHECK(light == Approx(0.25).margin(0.05));   // (the others' counted apart)
+                CHECK(rays > light + 0.1);                   // (every pixel traces its light subpath)
+                CHECK(rays < 0.9);
+            } else {
+                CHECK(camera == 1.0);
+                CHECK(rays == 1.0);
+            }
         }
-        CHECK(light == Approx(1.0).margin(0.1));  // (every pixel traces its light subpath)
-        CHECK((integrator.leftOut().partialPasses == 1) == k.expectPartial);
     }
 }
 
@@ -98,7 +117,7 @@ TEST_CASE("auto's partial pilot: the image of the furnace is 1 in every pixel", 
         BdptIntegrator integrator(partialOptions());
         Film film(W, H);
         render(*scene, integrator, passes(W, H, kDecided, 2, 7000 + uint64_t(b)), film);
-        REQUIRE(integrator.leftOut().partialPasses == 1);
+        REQUIRE(integrator.leftOut().partialPasses == 2);
         const std::vector<float> image = finalImage(film, integrator, SamplerKind::Sobol);
         for (int by = 0; by < H / B; ++by)
             for (int bx = 0; bx < W / B; ++bx) {
@@ -120,21 +139,27 @@ TEST_CASE("auto's partial pilot: the image of the furnace is 1 in every pixel", 
     CHECK(z < 4.5);
 }
 
-// image · (N − 1 − k) = all · N − partial − (the other left-out sums where they are left out).
+// image · (N − p − k) = all · N − partial − (the other left-out sums where they are left out):
+// p = 1 after the first pass, 2 after the pilot.
 TEST_CASE("auto's image leaves its partial pilot pass out always", "[auto]") {
     auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
     const int W = 24, H = 16;
     BdptIntegrator integrator(partialOptions());
     Film film(W, H);
     int done = 0;
-    for (int spp : {2, 3, kDecided, 60}) {
+    for (int spp : {1, 2, 3, kDecided, 60}) {
         render(*scene, integrator, passes(W, H, spp - done), film);
         done = spp;
         const Integrator::LeftOutPasses out = integrator.leftOut();
-        REQUIRE(out.partialPasses == 1);
+        const int p = std::min(spp, 2);
+        REQUIRE(out.partialPasses == p);
         REQUIRE(out.partialSums);
         const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, SamplerKind::Sobol);
-        const int others = spp - 1 - out.passes;
+        if (spp == p) {  // (nothing else: the film's mean, partial as it is)
+            CHECK(image == all);
+            continue;
+        }
+        const int others = spp - p - out.passes;
         const bool group = out.passes > 0 && out.sums && others > 0 &&
                            (out.always || out.noise > 2.0 + double(out.passes) / others || others >= kLeftOutRatio * out.passes);
         INFO(spp << " passes, " << out.passes << " more left out: " << (group ? "yes" : "no"));
@@ -142,7 +167,7 @@ TEST_CASE("auto's image leaves its partial pilot pass out always", "[auto]") {
         for (size_t i = 0; i < all.size(); ++i) {
             double left = fromFixed((*out.partialSums)[i]);
             if (group) left += fromFixed((*out.sums)[i]);
-            const double expect = (double(all[i]) * spp - left) / (spp - 1 - (group ? out.passes : 0));
+            const double expect = (double(all[i]) * spp - left) / (spp - p - (group ? out.passes : 0));
             worst = std::max(worst, std::abs(image[i] - expect) / (std::abs(expect) + 1e-3));
         }
         CHECK(worst < 1e-5);
@@ -157,7 +182,7 @@ TEST_CASE("auto's partial pilot: the same bits for any thread count and through 
     CHECK(one.chosen != "undecided");
     CHECK(one.chosen == two.chosen);
     CHECK(std::memcmp(one.image.data(), two.image.data(), one.image.size() * sizeof(float)) == 0);
-    for (int stop : {1, 2, 3, kDecided}) {
+    for (int stop : {1, 2, 3, kDecided}) {  // (in the pilot, after it, after the duel)
         Film film(W, H);
         std::string state;
         {
@@ -173,4 +198,67 @@ TEST_CASE("auto's partial pilot: the same bits for any thread count and through 
         const std::vector<float> image = finalImage(film, second, SamplerKind::Sobol);
         CHECK(std::memcmp(image.data(), two.image.data(), image.size() * sizeof(float)) == 0);
     }
+}
+
+// Under a time budget that the first pass already spends, the render goes on to the first
+// pass the image keeps (renderer.cpp), rather than end with an image of partial passes alone.
+TEST_CASE("auto's partial pilot: a spent time budget still ends with a whole pass", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    const int W = 24, H = 16;
+    BdptIntegrator integrator(partialOptions());
+    Film film(W, H);
+    RenderOptions o = passes(W, H, 1);
+    o.timeBudget = 1e-9;
+    const RenderStats stats = render(*scene, integrator, o, film);
+    CHECK(stats.passes == 3);
+    CHECK(integrator.leftOut().partialPasses == 2);
+    // The image is the one whole pass.
+    const std::vector<float> all = film.rgb(), image = finalImage(film, integrator, SamplerKind::Sobol);
+    double worst = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        const double expect = double(all[i]) * 3 - fromFixed((*integrator.leftOut().partialSums)[i]);
+        worst = std::max(worst, std::abs(image[i] - expect) / (std::abs(expect) + 1e-3));
+    }
+    CHECK(worst < 1e-5);
+}
+
+// The state of a tracer that has rendered nothing (what mpirun's ranks start from) and of one
+// stopped in its partial pilot load; a foreign count of partial passes does not.
+TEST_CASE("auto's partial pilot: states before and within the pilot load, malformed ones do not", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    {
+        BdptIntegrator fresh(partialOptions()), other(partialOptions());
+        CHECK_NOTHROW(other.loadState(fresh.saveState()));
+    }
+    BdptIntegrator a(partialOptions());
+    Film film(16, 16);
+    render(*scene, a, passes(16, 16, 1), film);
+    const std::string state = a.saveState();
+    BdptIntegrator b(partialOptions());
+    CHECK_NOTHROW(b.loadState(state));
+    // Without partial passes, a state that has them is foreign.
+    BdptIntegrator whole(partialOptions(false));
+    CHECK_THROWS_AS(whole.loadState(state), std::runtime_error);
+}
+
+// A cancel (Ctrl-C) after the first partial pass, with the pass in flight to be dropped: the
+// render still goes on to the first whole pass, and no further (renderer.cpp).
+TEST_CASE("auto's partial pilot: a cancel within it ends at the first whole pass", "[auto]") {
+    auto scene = loadTestScene("bdpt_quad_fogbox.gltf");
+    const int W = 24, H = 16;
+    BdptIntegrator integrator(partialOptions());
+    Film film(W, H);
+    render(*scene, integrator, passes(W, H, 1), film);
+    std::atomic<bool> cancel{true};
+    RenderControl control;
+    control.cancel = &cancel;
+    control.dropInFlight = true;
+    const RenderStats stats = render(*scene, integrator, passes(W, H, 100), film, control);
+    CHECK(stats.passes == 2);
+    CHECK(film.passes() == 3);
+    CHECK(integrator.leftOut().partialPasses == 2);
+    // Cancelled before any pass of a new render: nothing.
+    BdptIntegrator fresh(partialOptions());
+    Film empty(W, H);
+    CHECK(render(*scene, fresh, passes(W, H, 100), empty, control).passes == 0);
 }

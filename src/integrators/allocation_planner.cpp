@@ -53,10 +53,11 @@ void AllocationPlanner::passImage(const PassSummary& s, std::vector<float>& imag
 
 void AllocationPlanner::endPass(const PassSummary& s) {
     if (!s.complete || !s.radiance) return;
-    if (chosen_ < 0 && s.pass <= lastDecisionPass())
-        addPassExact(s, partial_ && s.pass == decisionPass()
-                            ? partialSums_
-                            : leftOut_[s.pass < duelStart() ? 0 : 1 + (s.pass - duelStart()) / AllocationDuel::kPasses]);
+    if (chosen_ < 0 && s.pass <= lastDecisionPass()) {
+        const bool partial = partial_ && s.pass <= decisionPass();
+        addPassExact(s, partial ? partialSums_ : leftOut_[s.pass < duelStart() ? 0 : 1 + (s.pass - duelStart()) / AllocationDuel::kPasses]);
+        if (partial) ++partialPasses_;
+    }
     if (s.pass > decisionPass()) {
         if (dueling() && chosen_ < 0 && s.pass <= lastDecisionPass() && weights_.size() == size_t(s.width) * size_t(s.height) * 3) {
             std::vector<float> image;
@@ -76,6 +77,15 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         passes_ = 0;
         firstPassSeconds_ = s.seconds;
         timeBudget_ = s.timeBudget;
+        // A partial pass's time as a whole pilot pass's: × the whole pass's counted cost (the
+        // recording pixels' samples, × pixels over them) over the partial pass's (with the
+        // other pixels' light subpaths).
+        if (partial_) {
+            const BdptAllocation& pilot = candidates_[size_t(pilot_)];
+            const double recording = cost(pilot, s.totals.counts, recordingPixels());
+            const double rest = cost(pilot, s.totals.partialLight, double(s.width) * double(s.height) - recordingPixels());
+            if (recording > 0) firstPassSeconds_ *= recording * countScale() / (recording + rest);
+        }
     }
     if (sum_.size() != size_t(s.width) * size_t(s.height) * 3 || passes_ != s.pass) return;  // (not from pass 0 on)
     std::vector<float> image;
@@ -89,7 +99,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     // camera side at a quarter of the pixels), the collecting pass the path tracer's probe.
     if (partial_ && s.pass == 0) counts_.add(s.totals.counts);
     if (s.pass == kWeightPasses - 1) {
-        // Ī: the mean of the passes so far, box-filtered.
+        // Ī: the mean of the passes so far, box-filtered (over the recording pixels alone
+        // with a partial pilot: every 5×5 box holds 4 to 9 of them).
         const int W = width_, H = height_;
         weights_.assign(sum_.size(), 0.0f);
         for (int y = 0; y < H; ++y)
@@ -97,8 +108,11 @@ void AllocationPlanner::endPass(const PassSummary& s) {
                 double mean[3] = {0, 0, 0};
                 int n = 0;
                 for (int yy = std::max(0, y - kBlur); yy <= std::min(H - 1, y + kBlur); ++yy)
-                    for (int xx = std::max(0, x - kBlur); xx <= std::min(W - 1, x + kBlur); ++xx, ++n)
+                    for (int xx = std::max(0, x - kBlur); xx <= std::min(W - 1, x + kBlur); ++xx) {
+                        if (partial_ && !collectsPixel(xx, yy)) continue;
+                        ++n;
                         for (int c = 0; c < 3; ++c) mean[c] += sum_[3 * (size_t(yy) * size_t(W) + size_t(xx)) + size_t(c)];
+                    }
                 for (int c = 0; c < 3; ++c) {
                     double m = mean[c] / (n * passes_);
                     weights_[3 * (size_t(y) * size_t(W) + size_t(x)) + size_t(c)] = float(1.0 / (m * m + kRelativeEpsilon));
@@ -114,7 +128,7 @@ void AllocationPlanner::endPass(const PassSummary& s) {
     } else {
         counts_.add(s.totals.counts);
     }
-    samples_ += uint64_t(s.width) * uint64_t(s.height);
+    samples_ += partial_ ? uint64_t(recordingPixels()) : uint64_t(s.width) * uint64_t(s.height);
     if (++collected_ == collectPasses()) decide();
 }
 
@@ -154,22 +168,25 @@ AllocationPlanner::GroupDifference AllocationPlanner::groupDifference(
 // ("pt+ea") times kPathTracerCost, measured on bench_fog_room and area_hall (160x120,
 // unlimited depth: pt:mis samples per second over those of `bdpt --allocation pt+ea`). (The
 // duel counts both contenders' costs from their own passes.)
-double AllocationPlanner::cost(const BdptAllocation& a) const {
+double AllocationPlanner::cost(const BdptAllocation& a) const { return cost(a, counts_, double(samples_)); }
+
+// The same from counts of `samples` samples of the pilot's allocation.
+double AllocationPlanner::cost(const BdptAllocation& a, const PathCounts& counts, double samples) const {
     using namespace bdpt_cost;
     constexpr double kPathTracerCost = 0.57;
-    if (a.pathTracer && probe_ && counts_.pt.samples > 0)  // its probe's own parts, per sample
-        return pathTracerCost(counts_.pt) / double(counts_.pt.samples) * double(samples_) / std::max(1, collected_);
+    if (a.pathTracer && probe_ && counts.pt.samples > 0)  // its probe's own parts, per sample
+        return pathTracerCost(counts.pt) / double(counts.pt.samples) * samples / std::max(1, collected_);
     if (a.pathTracer) {
         BdptAllocation same = a;
         same.pathTracer = false;
-        return kPathTracerCost * cost(same);
+        return kPathTracerCost * cost(same, counts, samples);
     }
-    const BidirectionalCounts& n = counts_.bdpt;
+    const BidirectionalCounts& n = counts.bdpt;
     auto rays = [&](StrategyKind kind, bool ea) { return double(n.rays(kind, ea)); };
     const BdptAllocation& p = candidates_[size_t(pilot_)];
     // An ea-only allocation does not trace the free-flight variants its equi-angular ones replace.
     const bool onlyL = a.equiAngularOnly && a.equiAngularLight, onlyC = a.equiAngularOnly && a.equiAngularCamera;
-    double c = kSample * double(samples_) + kCameraWalk * double(n.cameraWalkRays) +
+    double c = kSample * samples + kCameraWalk * double(n.cameraWalkRays) +
                kLightConnection * (rays(StrategyKind::LightConnection, false) - (onlyL ? double(n.replaceableRays[0]) : 0.0));
     if (a.equiAngularLight) c += kLightConnectionEa * rays(StrategyKind::LightConnection, true);
     if (a.lightSubpaths) {  // (summed apart: the light subpath's parts)
@@ -347,8 +364,8 @@ Integrator::LeftOutPasses AllocationPlanner::leftOut() const {
         out = Integrator::LeftOutPasses{leftOutPasses_, &leftOut_[0], leftOutNoise()};
         out.always = out.noise > 1;
     }
-    if (partial_ && !partialSums_.empty()) {
-        out.partialPasses = 1;
+    if (partialPasses_ > 0) {
+        out.partialPasses = partialPasses_;
         out.partialSums = &partialSums_;
     }
     return out;
@@ -544,7 +561,8 @@ std::string AllocationPlanner::report() const {
                      [&](size_t a, size_t b) { return estimates_[a].efficiency > estimates_[b].efficiency; });
     char buf[512];
     const BidirectionalCounts& n = counts_.bdpt;
-    auto perPass = [&](uint64_t count) { return double(count) / std::max(1, collected_); };
+    // (A partial pilot counts its recording pixels alone: scaled to a whole pass.)
+    auto perPass = [&](uint64_t count) { return double(count) * countScale() / std::max(1, collected_); };
     std::snprintf(buf, sizeof buf,
                   "  pilot, rays per pass: camera walk %.0f, light walk %.0f, light connections %.0f + %.0f "
                   "equi-angular, camera connections %.0f + %.0f, general connections %.0f; samples %.0f\n",
@@ -552,7 +570,7 @@ std::string AllocationPlanner::report() const {
                   perPass(n.rays(StrategyKind::LightConnection, true)), perPass(n.rays(StrategyKind::CameraConnection, false)),
                   perPass(n.rays(StrategyKind::CameraConnection, true)),
                   perPass(n.rays(StrategyKind::SubpathConnection, false)) + perPass(n.rays(StrategyKind::SubpathConnection, true)),
-                  double(samples_) / std::max(1, collected_));
+                  perPass(samples_));
     out += buf;
     if (!ratesCandidates()) {
         out += "  candidates not rated: in single scattering the duel decides\n";
@@ -597,8 +615,8 @@ std::string AllocationPlanner::report() const {
 // a scene with a probe resumed to another choice), i32 pilot's choice, chosen, duelists × 2, collected, passes, width,
 // height; u64 samples; f64 × kSums moments; u64 × kCounters counters; then (u64 n, n values)
 // for sum (f64), sumSq (f64), weights (f32), ownParts (f32), ownSquares (f64); then the duel's (AllocationDuel::save); then i32
-// passes left out and (u64 n, n × i128) for each of the three left-out sums and the partial
-// pilot pass's.
+// passes left out and (u64 n, n × i128) for each of the three left-out sums; then i32 partial
+// pilot passes and (u64 n, n × i128) their sums.
 
 std::string AllocationPlanner::saveState() const {
     std::string out = "BAP9";
@@ -622,6 +640,7 @@ std::string AllocationPlanner::saveState() const {
     duel_.save(out);
     putBytes(out, int32_t(leftOutPasses_));
     for (const std::vector<FixedSum>& v : leftOut_) putVector(out, v);
+    putBytes(out, int32_t(partialPasses_));
     putVector(out, partialSums_);
     return out;
 }
@@ -660,8 +679,10 @@ void AllocationPlanner::loadState(const std::string& state) {
         v = r.getVector<FixedSum>(values);
         if (!v.empty() && v.size() != values) throw std::runtime_error("allocation state is malformed");
     }
+    const int partialPasses = r.get<int32_t>();
     std::vector<FixedSum> partialSums = r.getVector<FixedSum>(values);
-    if ((!partialSums.empty() && (partialSums.size() != values || !partial_)) || leftOutPasses < 0 ||
+    const bool partialFits = partialPasses == 0 ? partialSums.empty() : values > 0 && partialSums.size() == values;
+    if (partialPasses < 0 || partialPasses > (partial_ ? decisionPass() + 1 : 0) || !partialFits || leftOutPasses < 0 ||
         leftOutPasses > kMaxLastDecisionPass + 1)
         throw std::runtime_error("allocation state is malformed");
     if (r.at != state.size()) throw std::runtime_error("allocation state has trailing bytes");
@@ -680,6 +701,7 @@ void AllocationPlanner::loadState(const std::string& state) {
     }
     leftOutPasses_ = leftOutPasses;
     for (int k = 0; k < 3; ++k) leftOut_[k] = std::move(leftOut[k]);
+    partialPasses_ = partialPasses;
     partialSums_ = std::move(partialSums);
 }
 

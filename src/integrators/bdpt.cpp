@@ -1,6 +1,7 @@
 #include "brume/integrators/bdpt.h"
 
 #include <algorithm>
+#include <utility>
 #include <stdexcept>
 #include <vector>
 
@@ -276,10 +277,13 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // The transparent emitters its rays cross (emitter_crossing.h).
     thread_local std::vector<CrossingVertex> crossings;
     crossings.clear();
-    // auto's partial pilot pass: a pixel that does not record makes its light subpath's camera
-    // connections alone, towards the recording pixels (AllocationPlanner::partialAt).
+    // auto's partial pilot passes: a pixel that does not record makes its light subpath's
+    // camera connections alone, towards the recording pixels (AllocationPlanner::partialAt),
+    // and counts its rays apart (PathStats::partialLight).
     const int px = int(fx), py = int(fy);
     const bool lightSideOnly = partialPass_ && !AllocationPlanner::collectsPixel(px, py);
+    PathCounts recordingCounts;
+    if (lightSideOnly) std::swap(recordingCounts, stats.counts);
     const int nCamera = lightSideOnly
                             ? cameraVertexOnly(scene, fx, fy, width, height, camera)
                             : traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero,
@@ -388,6 +392,10 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
                 stats.moments.probe += double(w[ch]) * double(probe[ch]) * double(probe[ch]);
                 stats.moments.probeMean += double(w[ch]) * double(probe[ch]);
             }
+    }
+    if (lightSideOnly) {
+        stats.partialLight.add(stats.counts);
+        stats.counts = recordingCounts;
     }
     return L;
 }

@@ -125,11 +125,13 @@ public:
     int tilesDone() const { return tilesDone_.load(std::memory_order_relaxed); }
 
     // Starts pass `pass` on all workers and returns at once; `active` (null: every pixel)
-    // names the pixels that take part, `activeCount` of them.
-    void startPass(int pass, const std::vector<uint8_t>* active, int activeCount) {
+    // names the pixels that take part, `activeCount` of them; `droppable`: the pass may be
+    // abandoned (RenderControl::dropInFlight).
+    void startPass(int pass, const std::vector<uint8_t>* active, int activeCount, bool droppable) {
         integrator_.beginPass(scene_, pass);
         passStart_ = Clock::now();
         std::lock_guard<std::mutex> lock(mutex_);
+        droppable_ = droppable;
         active_ = active;
         activeCount_ = activeCount;
         pass_ = pass;
@@ -228,7 +230,7 @@ private:
             }
             try {
                 for (int t = nextTile_.fetch_add(1); t < tileCount(); t = nextTile_.fetch_add(1)) {
-                    if (drop_ && drop_->load(std::memory_order_relaxed)) break;
+                    if (drop_ && droppable_ && drop_->load(std::memory_order_relaxed)) break;
                     renderTile(t, pass);
                     tilesDone_.fetch_add(1, std::memory_order_relaxed);
                 }
@@ -291,6 +293,7 @@ private:
     const RenderOptions& options_;
     Film& film_;
     const std::atomic<bool>* drop_;       // non-null: abandon the pass once it is true
+    bool droppable_ = true;               // this pass may be abandoned
     const int tilesX_, tilesY_;
     std::vector<Spectrum> radiance_;      // the pass in flight, one sample per pixel
     std::vector<Spectrum> passTotal_;     // with noise tracking: its samples and splats per pixel
@@ -349,8 +352,17 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     const Clock::time_point start = Clock::now();
     ProgressBar progress(options.progress);
     auto cancelled = [&] { return control.cancel && control.cancel->load(); };
+    // Neither a time budget nor a cancel ends a render of the film's next passes, nor drops
+    // a pass in flight, where its image would have partial passes alone: auto's partial pilot
+    // passes (Integrator::LeftOutPasses::partialPasses), which the image leaves out, so it
+    // goes on to the first pass after them. (A count of passes is what it says: auto takes
+    // partial passes only in renders planned to be long, BdptOptions::partialPilot.)
+    auto whole = [&] {
+        const Integrator::LeftOutPasses out = integrator.leftOut();
+        return options.firstPass >= 0 || !out.partialSums || film.passes() > out.partialPasses;
+    };
     auto enough = [&] {
-        return options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget : stats.passes >= options.spp;
+        return options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget && whole() : stats.passes >= options.spp;
     };
     // Adaptive stopping: the pixels taking part in the next pass, decided from the film alone
     // (and the integrator's learning, itself restored with a checkpoint).
@@ -380,12 +392,12 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
                           control.dropInFlight ? control.cancel : nullptr);
         for (;;) {
             if (stats.passes > 0 && enough()) break;
-            if (cancelled() && (stats.passes > 0 || control.dropInFlight)) break;
+            if (cancelled() && (stats.passes > 0 || control.dropInFlight) && whole()) break;
             // The pass's index (its sampler key): the film's next one, or this call's share.
             const int pass = options.firstPass >= 0 ? options.firstPass + stats.passes * options.passStride : film.passes();
             const std::vector<uint8_t>* taking = decide(pass);
             if (adaptive && stats.activePixels == 0) break;  // every pixel reached the threshold
-            runner.startPass(pass, taking, stats.activePixels);
+            runner.startPass(pass, taking, stats.activePixels, whole());
             while (!runner.waitPass(std::chrono::milliseconds(200))) {
                 double t = secondsSince(start);
                 double fraction = options.timeBudget > 0

@@ -14,8 +14,8 @@
 //                 second moment M_j of each candidate j (allocation_statistics.h), and each
 //                 part of a sample counts its rays (passes 1–3 count, and record nothing, in
 //                 single scattering, where no estimate decides); with a partial pilot
-//                 (partialAt) only the recording pixels render their camera side, the
-//                 image always leaves the pass out, and pass 0 counts the rays;
+//                 (partialAt) only the recording pixels render their camera side in both
+//                 passes, the image always leaves them out, and pass 0 counts the rays;
 //   passes 2–17   (4–19) the duel (allocation_duel.h), where the pilot rated the best
 //                 bidirectional allocation with light subpaths and the path tracer within
 //                 16× of each other:
@@ -126,17 +126,20 @@ public:
         return pass <= decisionPass() ? SamplerKind::Independent : requested;
     }
     static bool collectsPixel(int x, int y) { return (x & 1) == 0 && (y & 1) == 0; }
-    // Whether pass `pass` is the partial pilot pass: only the recording pixels render their
+    // Whether pass `pass` is a partial pilot pass: only the recording pixels render their
     // camera side (camera walk, light and general connections), while every pixel traces its
     // light subpath, whose camera connections reach only the recording pixels. Those pixels'
-    // values are then whole pass values, as the statistics and the spread that measures
-    // V_pilot need; the others are not, so the image leaves the pass out always (leftOut).
-    // Why: the pilot's two passes of every strategy took 10–13 % of a 4-s render at 160×120;
-    // the camera side is about 3/4 of a pilot pass's rays. Only where a render is known to be
-    // long enough (at least kPartialFrom passes, or a time budget) that the pilot's passes
-    // would be outnumbered and left out of a Sobol image anyway (renderer.h, kLeftOutRatio).
+    // values are then whole pass values, as the pixel weights (box-filtered over recording
+    // pixels alone), the statistics and the spread that measures V_pilot need; the others are
+    // not, so the image leaves these passes out always (leftOut). Why: the pilot's two passes
+    // of every strategy took 10–19 % of a 4-s render at 160×120; the camera side is about 3/4
+    // of a pilot pass's rays. Only in full transport (single scattering's pilot passes are
+    // light tracing's learning passes, which need whole images), and where a render is known
+    // to be long enough (at least kPartialFrom passes, or a time budget) that the pilot's
+    // passes would be outnumbered and left out of a Sobol image anyway (renderer.h,
+    // kLeftOutRatio).
     static constexpr int kPartialFrom = 16;
-    bool partialAt(int pass) const { return partial_ && pass == decisionPass() && pilotChoice_ < 0; }
+    bool partialAt(int pass) const { return partial_ && pass <= decisionPass() && pilotChoice_ < 0; }
     // The index of pass `pass` in the sequence of a sampler of kind `kind`. With Sobol the
     // pilot's passes (independent numbers) take none; each of the duel's contenders starts at
     // 0 (an aligned block of 8), and the allocation chosen continues its own sequence: the
@@ -228,8 +231,13 @@ private:
     double duelCost(int c) const;
     std::string duelistName(int c) const;
     bool pilotLeftOut() const;
-    // The pilot's passes that the image may leave out or keep (the partial one is always out).
-    int pilotGroupPasses() const { return duelStart() - (partial_ ? 1 : 0); }
+    // The pilot's passes that the image may leave out or keep (partial ones are always out).
+    int pilotGroupPasses() const { return partial_ ? 0 : duelStart(); }
+    double cost(const BdptAllocation& a, const PathCounts& counts, double samples) const;
+    // Recording pixels, and what counts_ and samples_ are of a whole pass (pixels over
+    // recording pixels with a partial pilot, which counts the recording pixels alone; else 1).
+    double recordingPixels() const { return double((width_ + 1) / 2) * double((height_ + 1) / 2); }
+    double countScale() const { return partial_ && width_ > 0 ? double(width_) * double(height_) / recordingPixels() : 1.0; }
 
     std::vector<BdptAllocation> candidates_;
     int pilot_ = 0;
@@ -237,7 +245,8 @@ private:
     bool learnedShare_ = false;
     int plannedPasses_ = 0;
     bool partial_ = false;                 // partialAt
-    std::vector<FixedSum> partialSums_;    // the partial pass's exact sums (always left out)
+    std::vector<FixedSum> partialSums_;    // the partial passes' exact sums (always left out)
+    int partialPasses_ = 0;                // how many passes they are
     // Under a time budget (PassSummary): the pilot's first pass's seconds, the budget, and the
     // duel's estimated seconds per contender (startDuel; not in the saved state: checkpoints
     // and MPI ranks count passes, with no budget here).

@@ -138,9 +138,14 @@ struct PathStats {
     PathCounts counts;
     AllocationMoments moments;
     TechniqueSums techniques;
+    // auto's partial pilot passes (AllocationPlanner::partialAt): what the samples of pixels
+    // that do not record counted (their light subpaths), apart from `counts`, which then holds
+    // the recording pixels' whole samples alone.
+    PathCounts partialLight;
     void add(const PathStats& o) {
         rays += o.rays;
         counts.add(o.counts);
+        partialLight.add(o.partialLight);
         moments.add(o.moments);
         techniques.add(o.techniques);
     }

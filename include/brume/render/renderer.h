@@ -24,7 +24,8 @@ class Scene;
 struct RenderOptions {
     int width = 0, height = 0;  // must match the film
     int spp = 16;               // passes to render (ignored when timeBudget > 0)
-    double timeBudget = 0;      // seconds; > 0: whole passes until it is spent (at least one)
+    double timeBudget = 0;      // seconds; > 0: whole passes until it is spent (at least one
+                                // the image keeps: renderer.cpp)
     uint64_t seed = 0;
     SamplerKind sampler = SamplerKind::Sobol;  // sampling/sampler.h
     int threads = 0;            // 0 = std::thread::hardware_concurrency()
@@ -66,10 +67,12 @@ struct RenderStats {
 // What render() watches and calls besides its options; every member is optional.
 struct RenderControl {
     // Checked between passes: once it is true no new pass starts. The first pass always runs
-    // unless dropInFlight is set.
+    // unless dropInFlight is set. (Nor does it stop a render whose film holds partial passes
+    // alone, auto's partial pilot: it goes on to the first whole pass, renderer.cpp.)
     const std::atomic<bool>* cancel = nullptr;
     // Also checked between tiles: once `cancel` is true the pass in flight is abandoned and
-    // the film stays as it was after the last completed pass (possibly none).
+    // the film stays as it was after the last completed pass (possibly none); not a pass
+    // that starts on partial passes alone.
     bool dropInFlight = false;
     // Called on the calling thread after each completed pass, with the film holding it and
     // the statistics so far (seconds included).
@@ -107,7 +110,9 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
 //     4.6e-6 with them in the image, 2.4e-6 without, docs/mis.md). That costs at most
 //     1/(1 + kLeftOutRatio) of the samples.
 // Under adaptive sampling each pixel decides by the passes it keeps (a pixel stopped early
-// keeps them all when they are more than a small share of its own).
+// keeps them all when they are more than a small share of its own). Passes that rendered part
+// of the image (LeftOutPasses::partialPasses: auto's partial pilot pass) are left out always,
+// besides; such a film must not track noise (std::logic_error).
 // A function of the film and the integrator's state alone: the same bits after any thread
 // count, rank count or resume.
 constexpr int kLeftOutRatio = 4;

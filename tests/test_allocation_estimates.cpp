@@ -40,11 +40,12 @@ constexpr int kMeasuredPasses = 64;
 constexpr int kPilots = 5;
 constexpr double kTolerance = 0.25;
 
-BdptOptions options(const BdptAllocation* forced) {
+BdptOptions options(const BdptAllocation* forced, bool partialPilot = false) {
     BdptOptions o{-1, MisHeuristic::Power};
     o.connect = ConnectMode::Mis;
     if (forced) o.allocation = *forced;
     else o.efficiencyAware = true;
+    o.partialPilot = partialPilot;
     return o;
 }
 
@@ -74,8 +75,10 @@ double measuredVariance(const Scene& scene, const BdptAllocation& a, const Pixel
     return v;
 }
 
-// The median over kPilots pilot seeds of estimate / measured, per candidate named.
-std::vector<double> medianRatios(const char* sceneFile, const std::vector<std::string>& names) {
+// The median over kPilots pilot seeds of estimate / measured, per candidate named; with
+// partialPilot, of pilots whose passes render the camera side at the recording pixels alone
+// (AllocationPlanner::partialAt: the weights and V_pilot from those pixels).
+std::vector<double> medianRatios(const char* sceneFile, const std::vector<std::string>& names, bool partialPilot = false) {
     auto scene = loadTestScene(sceneFile);
     const size_t kNames = names.size();
     std::vector<std::vector<double>> ratios(kNames);  // estimate / measured, per pilot seed
@@ -83,7 +86,7 @@ std::vector<double> medianRatios(const char* sceneFile, const std::vector<std::s
     std::vector<BdptAllocation> candidates(kNames);
     std::vector<double> measured(kNames, 0.0);
     for (int seed = 0; seed < kPilots; ++seed) {
-        BdptIntegrator integrator(options(nullptr));
+        BdptIntegrator integrator(options(nullptr, partialPilot));
         Film film(kW, kH);
         RenderOptions o;
         o.width = kW;
@@ -121,7 +124,8 @@ std::vector<double> medianRatios(const char* sceneFile, const std::vector<std::s
         std::sort(r.begin(), r.end());
         std::string all;
         for (double v : ratios[k]) all += " " + std::to_string(v);
-        UNSCOPED_INFO(sceneFile << ", " << names[k] << ": estimate / measured over the pilot seeds:" << all);
+        UNSCOPED_INFO(sceneFile << (partialPilot ? " (partial pilot)" : "") << ", " << names[k]
+                                << ": estimate / measured over the pilot seeds:" << all);
         medians.push_back(r[r.size() / 2]);
     }
     return medians;
@@ -139,4 +143,14 @@ TEST_CASE("auto's variance estimates beside an area light, where light tracing c
           "[auto][allocation][heavy]") {
     const std::vector<std::string> names = {"bdpt lt p=0.25 ea=C", "bdpt lt p=0 ea-only=LC", "pt+ea"};
     for (double m : medianRatios("quad_light_fog.gltf", names)) CHECK(std::abs(m - 1) < kTolerance);
+}
+
+// The partial pilot (V_pilot and the weights from the recording pixels alone): at seeds 0–4
+// medians 1.02, 0.94, 1.03, 1.14, 1.02 on the point light. Beside the quad light it reads
+// 0.97, 0.99 and 1.29 for pt+ea (the whole pilot 1.21: one seed's estimate moved 6 %, with
+// V_pilot from a quarter of the pixels), over the bound: not held there (docs/results.md).
+TEST_CASE("auto's variance estimates with the partial pilot passes", "[auto][allocation][heavy]") {
+    const std::vector<std::string> names = {"bdpt lt p=0 ea=LC", "bdpt lt p=0 ea-only=LC", "bdpt lt p=0.25 ea-only=LC",
+                                            "bdpt lt p=0.25 ea=C", "pt+ea"};
+    for (double m : medianRatios("single_near.gltf", names, true)) CHECK(std::abs(m - 1) < kTolerance);
 }

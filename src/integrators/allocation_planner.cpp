@@ -67,6 +67,8 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         return;
     }
     if (pilotChoice_ >= 0) return;
+    if (s.pass == 0) pilotSeconds_ = 0;
+    pilotSeconds_ += s.seconds;
     if (s.pass == 0) {
         width_ = s.width;
         height_ = s.height;
@@ -563,6 +565,12 @@ std::string AllocationPlanner::report() const {
     const BidirectionalCounts& n = counts_.bdpt;
     // (A partial pilot counts its recording pixels alone: scaled to a whole pass.)
     auto perPass = [&](uint64_t count) { return double(count) * countScale() / std::max(1, collected_); };
+    // Its time, where this process rendered it (not kept in checkpoints).
+    if (pilotSeconds_ > 0) {
+        std::snprintf(buf, sizeof buf, "  pilot: %d passes%s in %.3f s\n", decisionPass() + 1,
+                      partial_ ? " (camera side at the recording pixels alone)" : "", pilotSeconds_);
+        out += buf;
+    }
     std::snprintf(buf, sizeof buf,
                   "  pilot, rays per pass: camera walk %.0f, light walk %.0f, light connections %.0f + %.0f "
                   "equi-angular, camera connections %.0f + %.0f, general connections %.0f; samples %.0f\n",

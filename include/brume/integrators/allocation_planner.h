@@ -252,6 +252,7 @@ private:
     // and MPI ranks count passes, with no budget here).
     static constexpr double kDuelShare = 0.1;
     double firstPassSeconds_ = 0, timeBudget_ = 0, duelSeconds_ = 0;
+    double pilotSeconds_ = 0;  // the pilot's passes' time, for the report
     double lightShare_ = 1.0;
     int pilotChoice_ = -1;          // the pilot's estimate's choice
     int chosen_ = -1;               // the final one (the duel's winner, if there was a duel)

@@ -97,8 +97,9 @@ void AllocationPlanner::endPass(const PassSummary& s) {
         sumSq_[i] += double(image[i]) * double(image[i]);
     }
     ++passes_;
-    // With a partial pilot the whole pass 0 counts the rays (the collecting pass renders the
-    // camera side at a quarter of the pixels), the collecting pass the path tracer's probe.
+    // With a partial pilot pass 0 counts the rays (of its recording pixels' samples: the other
+    // pixels' light subpaths count apart, PathStats::partialLight), the collecting pass the
+    // path tracer's probe.
     if (partial_ && s.pass == 0) counts_.add(s.totals.counts);
     if (s.pass == kWeightPasses - 1) {
         // Ī: the mean of the passes so far, box-filtered (over the recording pixels alone
@@ -359,7 +360,7 @@ double AllocationPlanner::leftOutNoise() const {
 // won, the bidirectional tracer's passes and the pilot's are less noisy per pass, and leaving
 // them out cost 1.4–1.8× in the forward fog: they follow the rules for passes of unknown
 // worth.
-// The partial pilot pass (partialAt) is left out always, decided or not.
+// The partial pilot passes (partialAt) are left out always, decided or not.
 Integrator::LeftOutPasses AllocationPlanner::leftOut() const {
     Integrator::LeftOutPasses out;
     if (leftOutPasses() > 0) {

@@ -98,8 +98,8 @@ public:
     // pilot's allocation with that share, and the duel alone decides (decideDuel).
     // plannedPasses: the passes the render will take (0: not known); in full transport the
     // duel is held only if at least 2·AllocationDuel::kPasses passes follow it (startDuel).
-    // partialPilot: in full transport, the pilot's collecting pass renders only what its
-    // recording pixels need (partialAt), where the render is long enough (kPartialFrom).
+    // partialPilot: in full transport, the pilot's passes render only what its recording
+    // pixels need (partialAt), where the render is long enough (kPartialFrom).
     explicit AllocationPlanner(ConnectMode connect, bool learnedShare = false, int plannedPasses = 0,
                                bool partialPilot = false);
     bool learnedShare() const { return learnedShare_; }

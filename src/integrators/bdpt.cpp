@@ -282,8 +282,11 @@ Spectrum BdptIntegrator::sampleWithSplats(const Scene& scene, float fx, float fy
     // and counts its rays apart (PathStats::partialLight).
     const int px = int(fx), py = int(fy);
     const bool lightSideOnly = partialPass_ && !AllocationPlanner::collectsPixel(px, py);
-    PathCounts recordingCounts;
-    if (lightSideOnly) std::swap(recordingCounts, stats.counts);
+    thread_local PathCounts recordingCounts;  // (no per-sample construction)
+    if (lightSideOnly) {
+        recordingCounts = stats.counts;
+        stats.counts = PathCounts{};
+    }
     const int nCamera = lightSideOnly
                             ? cameraVertexOnly(scene, fx, fy, width, height, camera)
                             : traceCameraSubpath(scene, fx, fy, width, height, cameraVertices, passFrom, passFirstAt, hero,

@@ -132,7 +132,7 @@ public:
     // values are then whole pass values, as the pixel weights (box-filtered over recording
     // pixels alone), the statistics and the spread that measures V_pilot need; the others are
     // not, so the image leaves these passes out always (leftOut). Why: the pilot's two passes
-    // of every strategy took 10–19 % of a 4-s render at 160×120; the camera side is about 3/4
+    // of every strategy took 10–25 % of a 4-s render at 160×120; the camera side is about 3/4
     // of a pilot pass's rays. Only in full transport (single scattering's pilot passes are
     // light tracing's learning passes, which need whole images), and where a render is known
     // to be long enough (at least kPartialFrom passes, or a time budget) that the pilot's

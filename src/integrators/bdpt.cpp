@@ -428,17 +428,23 @@ Spectrum BdptIntegrator::sampleSplit(const Scene& scene, float fx, float fy, int
     split.q = lightSubpathsMade();
     split.kappa = usesShare_ ? direct_->factor() : options_.directLightTracing >= 0 ? options_.directLightTracing : 1.0;
     const int px = std::min(int(fx), width - 1), py = std::min(int(fy), height - 1);
-    Spectrum alone(0.0f);
+    Spectrum alone(0.0f), weighted(0.0f);
     const bool gathering = learningDirect_ || checkingDirect_;
     if (gathering) {
         direct_->ensureImages(width, height);
         split.cameraAlone = &alone;
     }
+    if (checkingDirect_) split.cameraSplit = &weighted;
+    split.atCameraRay(fx, fy);
     const Spectrum L = pathTracer_.sample(scene, fx, fy, width, height, sampler, stats, &split);
-    const Sampler lightSampler = sampler.imageWide(uint64_t(py) * uint64_t(width) + uint64_t(px), uint64_t(width) * uint64_t(height));
-    if (split.q >= 1 || lightSampler.get1D(dim::kLightStart + dim::kMade) < split.q)
-        oneEventLightTracing(scene, split, lightSampler, stats, splats, gathering ? direct_.get() : nullptr);
+    if (split.q > 0) {  // (light tracing turned off: none, direct_light_tracing.h)
+        const Sampler lightSampler =
+            sampler.imageWide(uint64_t(py) * uint64_t(width) + uint64_t(px), uint64_t(width) * uint64_t(height));
+        if (split.q >= 1 || lightSampler.get1D(dim::kLightStart + dim::kMade) < split.q)
+            oneEventLightTracing(scene, split, lightSampler, stats, splats, gathering ? direct_.get() : nullptr);
+    }
     if (gathering) direct_->addCamera(px, py, alone);
+    if (checkingDirect_) direct_->addSplitCamera(px, py, weighted);
     return L;
 }
 
@@ -457,7 +463,7 @@ void BdptIntegrator::endPass(const Scene& scene, const PassSummary& summary) {
     if (pathTracer_.guide() || sharesPass_) pathTracer_.endPass(scene, summary);
     if (guideTraining_ && !planner_) return;
     if (learningDirect_) summary.complete ? direct_->endPass(summary) : direct_->discardPass();
-    if (checkingDirect_) summary.complete ? direct_->endCheckPass() : direct_->discardPass();
+    if (checkingDirect_) summary.complete ? direct_->endCheckPass(&summary.totals.counts, options_.plannedPasses) : direct_->discardPass();
     if (planner_) {
         if (direct_) planner_->setLightShare(direct_->subpathShare());
         planner_->endPass(summary);

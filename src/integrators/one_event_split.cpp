@@ -52,9 +52,9 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
     if (q <= 0 || kappa <= 0) return 1.0f;
     const Camera& cam = scene.camera();
     const Vec3 c = cam.position;
-    const Vec3 toX = x - c, fromLight = x - y;
-    const float sc = length(toX), sl = length(fromLight);
-    if (!(sc > 0) || !(sl > 0)) return 1.0f;
+    const Vec3 toX = x - c;
+    const float sc = length(toX);
+    if (!(sc > 0)) return 1.0f;
     // pdfDir = We·cosθ (camera_importance.h), from the one projection of x onto the film, which
     // also gives the film density around a light's image (drawn by inverse distance there,
     // light_pixels.h); 0 off the film.
@@ -69,12 +69,49 @@ float OneEventSplit::cameraWeight(const Scene& scene, Vec3 x, const Medium& m, i
                             ? double(scene.lightSelection().pmfAlong(c, toX / sc, kInfinity, li)) /
                                   double(scene.lightDistribution().pmf(li))
                             : 1.0;
-    const double pc = pdfDir / (double(sc) * sc) * cameraDensity * pick;
+    return weightFrom(scene, x, m, li, y, pdfDir / (double(sc) * sc) * cameraDensity * pick);
+}
+
+double OneEventSplit::rayPick(const Scene& scene, Vec3 dir, int li) const {
+    if (!scene.lightSelection().spatial()) return 1.0;
+    if (li != pickLight_) {
+        pickLight_ = li;
+        rayPickValue_ = double(scene.lightSelection().pmfAlong(scene.camera().position, dir, kInfinity, li)) /
+                        double(scene.lightDistribution().pmf(li));
+    }
+    return rayPickValue_;
+}
+
+// x on the camera ray through (rayFx_, rayFy_): pdfDir = 1/(A·cos³θ) of its direction
+// (camera_importance.h) and m at that film position, the pick along the ray (the same
+// numbers as cameraWeight takes from x, up to rounding), once per sample.
+float OneEventSplit::cameraFamilyWeight(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double cameraDensity) const {
+    if (q <= 0 || kappa <= 0) return 1.0f;
+    const Camera& cam = scene.camera();
+    const Vec3 toX = x - cam.position;
+    const double s2 = double(dot(toX, toX));
+    if (!(s2 > 0)) return 1.0f;
+    const double s = std::sqrt(s2);
+    const Vec3 dir = toX / float(s);
+    if (rayFilm_ < 0) {
+        const double cos = double(dot(dir, cam.forward));
+        rayFilm_ = cos > 0 ? double(cameraPdfDir(cam, dir, width, height)) * cos * cos * cos *
+                                 (lightPixels ? double(lightPixels->density(rayFx_, rayFy_)) : 1.0)
+                           : 0.0;
+    }
+    const double cos = double(dot(dir, cam.forward));
+    return weightFrom(scene, x, m, li, y, rayFilm_ / (cos * cos * cos * s2) * cameraDensity * rayPick(scene, dir, li));
+}
+
+float OneEventSplit::weightFrom(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double pc) const {
+    const Vec3 fromLight = x - y;
+    const float sl = length(fromLight);
+    if (!(sl > 0)) return 1.0f;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
     emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);
     const double pl = q * kappa * double(dir) / (double(sl) * sl);
-    const double B = pl * pl * lightSquares(mode, m.sigmaT().x, y, dl, sl, c);
+    const double B = pl * pl * lightSquares(mode, m.sigmaT().x, y, dl, sl, scene.camera().position);
     const double A = pc * pc;
     if (!(B > 0)) return 1.0f;
     if (!(A > 0)) return 0.0f;
@@ -173,6 +210,10 @@ void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const 
         }
         stats.counts.bdpt.rays(StrategyKind::CameraConnection, equiAngular) += stats.rays - rays0;
         const Spectrum splat = value * float(w);
+        if (split.cameraSplit) {  // the check: measured, not splatted
+            learning->addSplitLight(int(cc.fx), int(cc.fy), splat);
+            continue;
+        }
         if (isBlack(splat)) continue;
         ++stats.counts.bdpt.contribution(StrategyKind::CameraConnection, equiAngular);
         stats.techniques.addAlone(techniqueSlot(StrategyKind::CameraConnection, equiAngular), splat);

@@ -51,7 +51,7 @@ struct FamilyShare {
     float* weight = nullptr;
     // x in m, y on light li; p: the density per unit length with which x was placed.
     void weigh(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double p) const {
-        if (split) *weight = split->cameraWeight(scene, x, m, li, y, p);
+        if (split) *weight = split->cameraFamilyWeight(scene, x, m, li, y, p);
     }
 };
 

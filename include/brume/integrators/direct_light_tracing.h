@@ -46,6 +46,25 @@
 // tracing then lost 27× against the path tracer, 0.25× in the forward fog, 1× beside the thin
 // lamp; docs/results.md.)
 //
+// Whether light tracing pays at all (the one-event split only). The check's passes also gather
+// the split's own estimate of one-event paths (the camera side weighted W_C plus light
+// tracing's weighted splats, with κ as learned), while the film takes the camera side alone
+// (W_C = 1, light tracing's splats measured but not splatted: every check pass is then a
+// path-tracer pass, unbiased). The spread of their batches of 2 and 4 passes gives each its
+// variance at 4 passes and its rate α = log2(V(2)/V(4)) (within [1, 3]); carried to the
+// render's N passes (--spp; 256 where not known), if the split's estimate beats the camera
+// side alone by less than what light tracing and the weights cost,
+//   V_alone(4)/V_split(4) · (N/4)^(α_split − α_alone) < (C_camera + C_light + kWeightCall·calls) / C_camera
+// (counted from the check's passes, sample_cost.h's units; light tracing's splats are all
+// traced there, so C_light is an upper bound), light tracing is turned off: κ = 0, q = 0, the
+// split is the path tracer. (Measured at fixed spp after film positions by inverse distance,
+// docs/results.md: on six fogs of point lights light tracing lowered no error by more than
+// 1 %, raised it up to 2× in dense fog beside a far light, and cost 10–60 % more time per
+// sample. Beside narrow spots it is far better at 4 passes, 14–80×, but the camera side's
+// rate there is twice its own, hence the extrapolation.) Off is safe where the split applies: its camera side has no heavy tail
+// there (equi-angular placement cancels the light's 1/r², the film positions the 1/D of a light
+// in view, everything else is bounded), so there are no rare paths for light tracing to save.
+//
 // Deterministic: the camera-side image is written by each pixel's own sample; light
 // tracing's lands anywhere and is summed in 64-bit fixed point (order-free); the factor is
 // set at a pass boundary. Saved in checkpoints.
@@ -79,11 +98,21 @@ public:
     bool checking(int pass) const {
         return passes_ == kPasses && pass >= kPasses && pass - kPasses == checkPasses_ && checkPasses_ < kCheckPasses;
     }
-    // After a checking pass that completed: its images into the batches; after the last, κ
-    // corrected.
-    void endCheckPass();
-    // The factor in force (1 while learning).
-    double factor() const { return factor_; }
+    // After a checking pass that completed (its counters, null: cost not counted): its images
+    // into the batches; after the last, κ corrected or light tracing turned off, judged at
+    // `renderPasses` passes (0: not known, kAssumedPasses).
+    void endCheckPass(const PathCounts* counts = nullptr, int renderPasses = 0);
+    static constexpr int kAssumedPasses = 256;
+    // The factor in force (1 while learning, 0 when turned off).
+    double factor() const { return off_ ? 0.0 : factor_; }
+    // Whether the check turned light tracing off, and what it measured: V_alone / V_split and
+    // the cost ratio it had to beat (0 until checked).
+    bool off() const { return off_; }
+    double splitGain() const { return splitGain_; }
+    double costRatio() const { return costRatio_; }
+    // The cost of one weight W_C beside the camera side's connection (sample_cost.h's units;
+    // measured on bench_thin_near and bench_dense_far: see docs/results.md).
+    static constexpr double kWeightCall = 0.6;
     // The check's gains G_camera and G_light (0 until checked).
     double cameraGain() const { return gain_[0]; }
     double lightGain() const { return gain_[1]; }
@@ -94,7 +123,7 @@ public:
     // subpath, two camera connections and their weights were about two thirds of a sample.
     // Not below kLeastShare = 1/16, so that q·c ≥ 1/1024 keeps the heavy tails light tracing
     // covers (see kFloor).
-    double subpathShare() const { return std::max(kLeastShare, factor_); }
+    double subpathShare() const { return off_ ? 0.0 : std::max(kLeastShare, factor_); }
     static constexpr double kLeastShare = 1.0 / 16.0;
     // V_camera and V_light as measured (0 until learned).
     double cameraVariance() const { return variance_[0]; }
@@ -108,6 +137,10 @@ public:
     void addCamera(int x, int y, const Spectrum& v);
     // Light tracing's alone estimate landing in pixel (x, y) (any thread).
     void addLight(int x, int y, const Spectrum& v);
+    // The check's split estimate of one-event paths: the camera side's weighted value (one call
+    // per sample, from the pixel's own sample) and light tracing's weighted splats (any thread).
+    void addSplitCamera(int x, int y, const Spectrum& v);
+    void addSplitLight(int x, int y, const Spectrum& v);
     // After the learning pass completed: its images into the pair statistics; after the last,
     // the factor.
     void endPass(const PassSummary& summary);
@@ -127,13 +160,18 @@ private:
     int width_ = 0, height_ = 0;
     int passes_ = 0;  // learning passes completed
     int checkPasses_ = 0;  // checking passes completed
-    AllocationDuel batches_[2];  // the check's batches: camera side, light tracing (contender 0 each)
+    AllocationDuel batches_[3];  // the check's batches: camera side, light tracing, the split (contender 0 each)
     std::vector<float> weights_;  // the check's pixel weights, 1/(Ī² + 0.01) from the learning passes
     double gain_[2] = {0, 0};
     double factor_ = 1.0;
     double variance_[2] = {0, 0};
+    bool off_ = false;
+    double splitGain_ = 0, costRatio_ = 0;
+    double costs_[3] = {0, 0, 0};  // the check's counted cost: camera side, light tracing, weights
     std::vector<float> camera_;                       // this pass, 3 per pixel
     std::unique_ptr<std::atomic<int64_t>[]> light_;   // this pass, fixed point, 3 per pixel
+    std::vector<float> splitCamera_;                      // the check's pass: W_C-weighted camera side
+    std::unique_ptr<std::atomic<int64_t>[]> splitLight_;  // and light tracing's weighted splats
     std::vector<float> first_[2];                     // the pair's first pass, both families
     double squares_[2][kGroups] = {};                 // Σ w·(a − b)²/2 per family and pixel group
     std::vector<FixedSum> passSums_;

@@ -67,10 +67,26 @@ struct OneEventSplit {
     // Learning and checking passes of κ (direct_light_tracing.h): where the camera family's
     // value of this sample, weighted within its family alone, is summed.
     Spectrum* cameraAlone = nullptr;
+    // The check's passes (direct_light_tracing.h, whether light tracing pays): where the camera
+    // family's weighted value is summed instead of returned; the film then takes the camera
+    // side alone (W_C = 1), and light tracing's weighted splats are measured, not splatted.
+    Spectrum* cameraSplit = nullptr;
 
     // W_C of the path camera → x (in medium m) → point y of light `li`, the camera family's
     // density of x per unit length on its ray being `cameraDensity`.
     float cameraWeight(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double cameraDensity) const;
+    // The same for a camera-family sample, whose x lies on the camera ray set by atCameraRay:
+    // the film's part of p_C (pdfDir · m) and the light pick's ratio are the ray's, so they are
+    // taken once per sample, not once per connection (they were a third of the split's cost
+    // over the path tracer in the forward fog, docs/results.md).
+    float cameraFamilyWeight(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double cameraDensity) const;
+    // The camera family's ray through film position (fx, fy) (before the path tracer's sample).
+    void atCameraRay(float fx, float fy) {
+        rayFx_ = fx;
+        rayFy_ = fy;
+        rayFilm_ = -1;
+        pickLight_ = -1;
+    }
     // That density as the path tracer has it: equi-angular (product) over the camera ray's
     // segment to its first surface, clipped to the light (one ray), or free flight.
     double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y, PathStats& stats) const;
@@ -78,8 +94,22 @@ struct OneEventSplit {
     // weighted.
     Spectrum share(const Spectrum& value, float weight) const {
         if (cameraAlone) *cameraAlone += value;
+        if (cameraSplit) {
+            *cameraSplit += value * weight;
+            return value;
+        }
         return value * weight;
     }
+
+private:
+    // W_C from p_C for light `li`'s point y, the path ending at x.
+    float weightFrom(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double pc) const;
+    // The ray's light pick ratio (as cameraWeight's `pick`), for its last light.
+    double rayPick(const Scene& scene, Vec3 dir, int li) const;
+    float rayFx_ = 0, rayFy_ = 0;
+    mutable double rayFilm_ = -1;  // 1/A · m of the camera family's ray (−1: not yet taken)
+    mutable int pickLight_ = -1;   // the light whose ratio rayPickValue_ holds
+    mutable double rayPickValue_ = 1;
 };
 
 // The light family of one sample (made with probability q by the caller): a light, an

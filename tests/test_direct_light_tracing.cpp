@@ -104,6 +104,58 @@ TEST_CASE("light tracing's share: checked with Sobol numbers, it falls where the
     }
 }
 
+// Whether light tracing pays at all (the split's check): the same check passes, the camera side
+// alone stratified (its error falls as a Sobol render's does, ~1/n² over the batches), the
+// split's estimate given as the camera side plus a little noise of its own (light tracing that
+// adds nothing) or as nearly exact (light tracing that takes the error away), and light tracing
+// costing half a camera sample. Off in the first case (κ and q then 0), kept in the second; and
+// kept where the cost is not counted (no counters: the ratio is not known).
+TEST_CASE("light tracing's share: the check turns light tracing off where the split's estimate does not pay for it",
+          "[bdpt][mis]") {
+    PathCounts counts;
+    counts.pt.samples = uint64_t(kW * kH);
+    counts.pt.walkRays = counts.pt.segmentCalls = uint64_t(kW * kH);
+    counts.bdpt.lightWalkRays = uint64_t(kW * kH) / 2;
+    for (int helps : {0, 1}) {
+        DirectLightTracing d;
+        learn(d, 0.3, 0.6, 7);
+        for (int k = 0; k < DirectLightTracing::kCheckPasses; ++k) {
+            const int pass = DirectLightTracing::kPasses + k;
+            REQUIRE(d.checking(pass));
+            d.ensureImages(kW, kH);
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x) {
+                    Sampler pixel(8, uint64_t(y * kW + x), 0, SamplerKind::Independent);
+                    Sampler s(9, uint64_t(y * kW + x), uint64_t(pass), SamplerKind::Independent);
+                    const float v = 2 * pixel.get1D(0) - 1, e = 2 * s.get1D(0) - 1, u = 2 * s.get1D(1) - 1;
+                    const float camera = float(1 + 0.3 * ((k % 2 ? -v : v) + 0.1f * e));
+                    d.addCamera(x, y, Spectrum(camera));
+                    d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
+                    const float split = helps ? float(1 + 0.003 * u) : camera + float(0.003 * u);
+                    d.addSplitCamera(x, y, Spectrum(0.5f * split));
+                    d.addSplitLight(x, y, Spectrum(0.5f * split));
+                }
+            d.endCheckPass(&counts, 256);
+        }
+        INFO("light tracing " << (helps ? "helps" : "adds nothing") << ": gain " << d.splitGain() << ", cost ratio "
+                              << d.costRatio());
+        CHECK(d.costRatio() > 1.1);
+        CHECK(d.costRatio() < 2.0);
+        CHECK(d.off() == !helps);
+        CHECK((d.factor() == 0) == !helps);
+        CHECK((d.subpathShare() == 0) == !helps);
+        // The state keeps the decision.
+        std::string bytes;
+        d.save(bytes);
+        DirectLightTracing resumed;
+        StateReader reader{bytes, 0};
+        resumed.load(reader);
+        CHECK(reader.at == bytes.size());
+        CHECK(resumed.off() == d.off());
+        CHECK(resumed.factor() == d.factor());
+    }
+}
+
 TEST_CASE("light tracing's share: one firefly does not decide it", "[bdpt][mis]") {
     DirectLightTracing d;
     for (int pass = 0; pass < DirectLightTracing::kPasses; ++pass) {

@@ -162,7 +162,7 @@ Integrator::LeftOutPasses BdptIntegrator::leftOut() const {
 // State: with guiding, "BDG1", the guide's state's length (u64) and the guide's state; where
 // the path tracer inside learns connection shares or may start a guide (auto with --guiding
 // auto), "BDS1", the length and the path tracer's
-// state; then the planner's (auto), then "BDL1" and light tracing's share if it learns one
+// state; then the planner's (auto), then "BDL2" and light tracing's share if it learns one
 // (bdpt, and auto in single scattering); with both, the planner's is preceded by its length
 // (u64).
 bool BdptIntegrator::keepsPathTracerState() const {
@@ -197,7 +197,7 @@ std::string BdptIntegrator::saveOwnState() const {
         out += planner;
     }
     if (direct_) {
-        out += "BDL1";
+        out += "BDL2";
         direct_->save(out);
     }
     return out;
@@ -217,7 +217,7 @@ void BdptIntegrator::loadOwnState(const std::string& state) {
         planner = state.substr(reader.at, size_t(n));
         reader.at += size_t(n);
     }
-    if (state.compare(reader.at, 4, "BDL1") != 0) throw std::runtime_error("light tracing state is malformed");
+    if (state.compare(reader.at, 4, "BDL2") != 0) throw std::runtime_error("light tracing state is malformed");
     reader.at += 4;
     direct_->load(reader);
     if (reader.at != state.size()) throw std::runtime_error("light tracing state has trailing bytes");

@@ -544,7 +544,7 @@ TEST_CASE("auto's saved state: foreign, truncated or trailing bytes are rejected
     // A fixed tracer keeps only light tracing's learned share (direct_light_tracing.h), and
     // takes no allocation state.
     BdptIntegrator fixed(BdptOptions{});
-    CHECK(fixed.saveState().compare(0, 4, "BDL1") == 0);
+    CHECK(fixed.saveState().compare(0, 4, "BDL2") == 0);
     CHECK_THROWS_AS(fixed.loadState(state), std::runtime_error);
     BdptOptions plain;
     plain.directLightTracing = 1.0;

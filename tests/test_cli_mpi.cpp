@@ -145,6 +145,26 @@ TEST_CASE("mpi: a rank started with other arguments is refused before rendering"
     CHECK_FALSE(fs::exists(out));
 }
 
+// A rank whose own set-up fails where rank 0's does not (here: its scene file is missing where it
+// runs) says so itself, naming itself: rank 0 has nothing to report.
+TEST_CASE("mpi: a rank that alone fails to load its scene reports it", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "out.exr", missing = dir / "missing.gltf";
+    const std::string a = quote(BRUME_EXE) + kRender + "--spp 2 -o " + quote(out);
+    const std::string b = quote(BRUME_EXE) + " render " + quote(missing) + " --res 48x36 --threads 1 --spp 2 -o " + quote(out);
+    Run r = shell("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 1 " + a +
+                  " : -np 1 " + b);
+    INFO(r.err);
+    CHECK(r.code != 0);
+    CHECK(r.err.find("brume: rank 1: ") != std::string::npos);
+    CHECK(r.err.find("missing.gltf") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+}
+
 // Adaptive stopping decides after every pass from the whole film: not over several processes.
 TEST_CASE("mpi: --noise-threshold is refused under mpirun", "[mpi][cli]") {
     if (!mpiAvailable()) {

@@ -489,6 +489,26 @@ std::string absolutePath(const std::string& path) {
 
 namespace {
 
+// After a step every rank takes on its own (loading the scene, whose files each rank reads
+// where it runs): where it failed on some rank, rank 0 reports its own error, and a rank that
+// failed where rank 0 did not reports its own, naming itself (rank 0 alone could not say why).
+// The exit code to return, or −1 to go on. (A collective: every rank calls it.)
+int agreeAfterSetup(const RankGroup& group, std::exception_ptr error) {
+    if (group.allOk(!error)) return -1;
+    const bool leadFailed = group.broadcast(group.rank() == 0 && error ? "1" : "0") == "1";
+    if (error && group.rank() == 0) std::rethrow_exception(error);
+    if (error && !leadFailed) {
+        try {
+            std::rethrow_exception(error);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "brume: rank %d: %s\n", group.rank(), e.what());
+        } catch (...) {
+            std::fprintf(stderr, "brume: rank %d: its set-up failed\n", group.rank());
+        }
+    }
+    return kExitFailure;
+}
+
 // The render on this process; with several ranks, see distributed_render.h. Ranks other than
 // 0 check what they use themselves (arguments, scene) and leave the files to rank 0.
 // Loads the scene (its BRUME_render settings stand in for the options not given) and, under
@@ -510,10 +530,7 @@ int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv
     } catch (...) {
         setupError = std::current_exception();
     }
-    if (!group.allOk(!setupError)) {
-        if (setupError) std::rethrow_exception(setupError);
-        return kExitFailure;
-    }
+    if (const int exit = agreeAfterSetup(group, setupError); exit >= 0) return exit;
     if (group.distributed()) {
         // Every rank must render the same thing: its arguments and its scene file's bytes.
         Fnv1a64 h;

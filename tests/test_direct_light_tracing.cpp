@@ -42,6 +42,34 @@ void learn(DirectLightTracing& d, double a, double b, uint64_t seed, int from = 
     }
 }
 
+// `to` loaded from `from`'s saved state, which it reads to the end.
+void reload(const DirectLightTracing& from, DirectLightTracing& to) {
+    std::string bytes;
+    from.save(bytes);
+    StateReader reader{bytes, 0};
+    to.load(reader);
+    CHECK(reader.at == bytes.size());
+}
+
+// Feeds the check's passes (after learn): feed(x, y, k, v, e, u) for every pixel of the k-th,
+// v the pixel's own number and e, u the pass's (uniform on [−1, 1)); each pass ended with
+// `counts` (null: cost not counted), judged at 256 passes.
+template <class F>
+void check(DirectLightTracing& d, F feed, const PathCounts* counts = nullptr) {
+    for (int k = 0; k < DirectLightTracing::kCheckPasses; ++k) {
+        const int pass = DirectLightTracing::kPasses + k;
+        REQUIRE(d.checking(pass));
+        d.ensureImages(kW, kH);
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                Sampler pixel(8, uint64_t(y * kW + x), 0, SamplerKind::Independent);
+                Sampler s(9, uint64_t(y * kW + x), uint64_t(pass), SamplerKind::Independent);
+                feed(x, y, k, 2 * pixel.get1D(0) - 1, 2 * s.get1D(0) - 1, 2 * s.get1D(1) - 1);
+            }
+        d.endCheckPass(counts, 256);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("light tracing's share: the ratio of the families' variances, within its bounds", "[bdpt][mis]") {
@@ -75,22 +103,13 @@ TEST_CASE("light tracing's share: checked with Sobol numbers, it falls where the
         DirectLightTracing d;
         learn(d, 0.3, 0.6, 7);
         const double learned = d.factor();
-        for (int k = 0; k < DirectLightTracing::kCheckPasses; ++k) {
-            const int pass = DirectLightTracing::kPasses + k;
-            REQUIRE(d.checking(pass));
-            d.ensureImages(kW, kH);
-            for (int y = 0; y < kH; ++y)
-                for (int x = 0; x < kW; ++x) {
-                    Sampler pixel(8, uint64_t(y * kW + x), 0, SamplerKind::Independent);
-                    Sampler s(9, uint64_t(y * kW + x), uint64_t(pass), SamplerKind::Independent);
-                    const float v = 2 * pixel.get1D(0) - 1, e = 2 * s.get1D(0) - 1, u = 2 * s.get1D(1) - 1;
-                    const float camera = stratified ? (k % 2 ? -v : v) + 0.05f * e : e;
-                    d.addCamera(x, y, Spectrum(float(1 + 0.3 * camera)));
-                    d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
-                }
-            d.endCheckPass();
-        }
+        check(d, [&](int x, int y, int k, float v, float e, float u) {
+            const float camera = stratified ? (k % 2 ? -v : v) + 0.05f * e : e;
+            d.addCamera(x, y, Spectrum(float(1 + 0.3 * camera)));
+            d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
+        });
         CHECK_FALSE(d.checking(DirectLightTracing::kPasses + DirectLightTracing::kCheckPasses));
+        CHECK_FALSE(d.off());  // (no split estimate and no cost counted: nothing to decide)
         INFO((stratified ? "stratified" : "independent") << ": learned " << learned << ", checked " << d.factor()
                                                          << ", gains " << d.cameraGain() << " and " << d.lightGain());
         CHECK(d.lightGain() == Approx(1.0).epsilon(0.5));
@@ -108,8 +127,7 @@ TEST_CASE("light tracing's share: checked with Sobol numbers, it falls where the
 // alone stratified (its error falls as a Sobol render's does, ~1/n² over the batches), the
 // split's estimate given as the camera side plus a little noise of its own (light tracing that
 // adds nothing) or as nearly exact (light tracing that takes the error away), and light tracing
-// costing half a camera sample. Off in the first case (κ and q then 0), kept in the second; and
-// kept where the cost is not counted (no counters: the ratio is not known).
+// costing half a camera sample. Off in the first case (κ and q then 0), kept in the second.
 TEST_CASE("light tracing's share: the check turns light tracing off where the split's estimate does not pay for it",
           "[bdpt][mis]") {
     PathCounts counts;
@@ -119,24 +137,17 @@ TEST_CASE("light tracing's share: the check turns light tracing off where the sp
     for (int helps : {0, 1}) {
         DirectLightTracing d;
         learn(d, 0.3, 0.6, 7);
-        for (int k = 0; k < DirectLightTracing::kCheckPasses; ++k) {
-            const int pass = DirectLightTracing::kPasses + k;
-            REQUIRE(d.checking(pass));
-            d.ensureImages(kW, kH);
-            for (int y = 0; y < kH; ++y)
-                for (int x = 0; x < kW; ++x) {
-                    Sampler pixel(8, uint64_t(y * kW + x), 0, SamplerKind::Independent);
-                    Sampler s(9, uint64_t(y * kW + x), uint64_t(pass), SamplerKind::Independent);
-                    const float v = 2 * pixel.get1D(0) - 1, e = 2 * s.get1D(0) - 1, u = 2 * s.get1D(1) - 1;
-                    const float camera = float(1 + 0.3 * ((k % 2 ? -v : v) + 0.1f * e));
-                    d.addCamera(x, y, Spectrum(camera));
-                    d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
-                    const float split = helps ? float(1 + 0.003 * u) : camera + float(0.003 * u);
-                    d.addSplitCamera(x, y, Spectrum(0.5f * split));
-                    d.addSplitLight(x, y, Spectrum(0.5f * split));
-                }
-            d.endCheckPass(&counts, 256);
-        }
+        check(
+            d,
+            [&](int x, int y, int k, float v, float e, float u) {
+                const float camera = float(1 + 0.3 * ((k % 2 ? -v : v) + 0.1f * e));
+                d.addCamera(x, y, Spectrum(camera));
+                d.addLight(x, y, Spectrum(float(1 + 0.6 * u)));
+                const float split = helps ? float(1 + 0.003 * u) : camera + float(0.003 * u);
+                d.addSplitCamera(x, y, Spectrum(0.5f * split));
+                d.addSplitLight(x, y, Spectrum(0.5f * split));
+            },
+            &counts);
         INFO("light tracing " << (helps ? "helps" : "adds nothing") << ": gain " << d.splitGain() << ", cost ratio "
                               << d.costRatio());
         CHECK(d.costRatio() > 1.1);
@@ -145,12 +156,8 @@ TEST_CASE("light tracing's share: the check turns light tracing off where the sp
         CHECK((d.factor() == 0) == !helps);
         CHECK((d.subpathShare() == 0) == !helps);
         // The state keeps the decision.
-        std::string bytes;
-        d.save(bytes);
         DirectLightTracing resumed;
-        StateReader reader{bytes, 0};
-        resumed.load(reader);
-        CHECK(reader.at == bytes.size());
+        reload(d, resumed);
         CHECK(resumed.off() == d.off());
         CHECK(resumed.factor() == d.factor());
     }
@@ -178,12 +185,10 @@ TEST_CASE("light tracing's share: the state survives a save and load, and damage
     DirectLightTracing straight, first;
     learn(straight, 0.3, 0.6, 6);
     learn(first, 0.3, 0.6, 6, 0, 3);  // stopped inside the second pair
+    DirectLightTracing resumed;
+    reload(first, resumed);
     std::string bytes;
     first.save(bytes);
-    DirectLightTracing resumed;
-    StateReader reader{bytes, 0};
-    resumed.load(reader);
-    CHECK(reader.at == bytes.size());
     learn(resumed, 0.3, 0.6, 6, 3, 4);
     CHECK(resumed.factor() == straight.factor());
     CHECK(resumed.cameraVariance() == straight.cameraVariance());

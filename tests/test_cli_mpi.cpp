@@ -80,6 +80,30 @@ TEST_CASE("mpi: 2 and 3 ranks give the single-process image, bit for bit", "[mpi
     }
 }
 
+// bdpt in single scattering beside a point light renders by the one-event split, which checks
+// light tracing's share over its first 8 Sobol passes after 4 learning passes and may turn light
+// tracing off (direct_light_tracing.h): every rank renders those 12 passes itself, so all decide
+// alike. (Before, the ranks shared the check's passes and each decided from its own part: the
+// images differed.)
+TEST_CASE("mpi: bdpt in single scattering, its check of light tracing included, gives the single-process image",
+          "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string flags = kRender + "--spp 16 --seed 5 --integrator bdpt --max-depth 1 --stats";
+    const std::string single = dir / "single.exr", out = dir / "ranks.exr";
+    BrumeResult one = runBrume(flags + " -o " + quote(single));
+    REQUIRE(one.code == 0);
+    CHECK(one.out.find("checked with Sobol numbers") != std::string::npos);
+    Run r = shell(mpirun(2) + quote(BRUME_EXE) + flags + " -o " + quote(out));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("checked with Sobol numbers") != std::string::npos);
+    CHECK(readFile(out) == readFile(single));
+}
+
 // --guiding auto (the default) with 72 passes: the path tracer starts its guide after its
 // shares (pass 4); every rank renders the training passes itself and starts the same guide,
 // so 2 ranks give the single-process image, which differs from the unguided one.

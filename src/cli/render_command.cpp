@@ -786,8 +786,13 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         plan.lastPass = a.seconds > 0 ? -1 : a.spp;
         plan.timeBudget = a.seconds;
         // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
-        // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h).
+        // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h), and
+        // in single scattering, where the split checks that share with Sobol numbers and turns
+        // light tracing off where it does not pay, the check's passes.
         const bool learns = a.integrator == "bdpt" && static_cast<const BdptIntegrator&>(integrator).directLightTracing();
+        const int checkPasses = learns && static_cast<const BdptIntegrator&>(integrator).checksLightTracing(scene)
+                                    ? DirectLightTracing::kCheckPasses
+                                    : 0;
         // So do the path tracer and bdpt their guide's training passes (path_guide.h), bdpt's
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
@@ -804,7 +809,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         const int autoGuidePasses = mayGuide ? PathGuide::kLastFitPass : 0;
         plan.pilotEnd = bdptOptions.efficiencyAware
                             ? std::max(donePasses, AllocationPlanner::kMaxLastDecisionPass + 1 + sharePasses + autoGuidePasses)
-                        : learns    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses)
+                        : learns    ? std::max(donePasses, guidePasses + DirectLightTracing::kPasses + checkPasses)
                         : a.guiding ? std::max(donePasses, std::max(guidePasses, learnsShares ? ConnectionShares::kLearningPasses : 0))
                         : learnsShares || autoGuidePasses > 0 ? std::max(donePasses, sharePasses + autoGuidePasses)
                                                               : donePasses;

@@ -86,6 +86,14 @@ bool BdptIntegrator::guideStartsAt(int pass) const {
            !pathTracer_.guide() && !pathTracer_.sharesLearning() && guideStart_.pays(pass);
 }
 
+bool BdptIntegrator::splitApplies(const Scene& scene) const {
+    return options_.oneEventSplit && (!planner_ || planner_->learnedShare()) && options_.maxDepth == 1 && !options_.guiding &&
+           options_.hooks.onlyS < 0 && !options_.hooks.observer && options_.allocation == BdptAllocation{} &&
+           oneEventSplitApplies(scene);
+}
+
+bool BdptIntegrator::checksLightTracing(const Scene& scene) const { return !planner_ && direct_ && splitApplies(scene); }
+
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     sharesPass_ = sharesPassAt(pass);
     pathTracer_.pauseShares(!sharesPass_);
@@ -96,9 +104,7 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     // Every strategy, in single scattering where the split applies: the fixed tracer, and
     // auto's pilot and duel contender (the pilot's allocation) there. (Not under the hooks,
     // which show and check the generic strategies.)
-    splitting_ = options_.oneEventSplit && (!planner_ || planner_->learnedShare()) && options_.maxDepth == 1 &&
-                 !options_.guiding && options_.hooks.onlyS < 0 && !options_.hooks.observer &&
-                 options_.allocation == BdptAllocation{} && oneEventSplitApplies(scene);
+    splitting_ = splitApplies(scene);
     // The fixed tracer's split checks light tracing's factor with the render's Sobol numbers.
     checkingDirect_ = splitting_ && !planner_ && direct_ && direct_->checking(pass);
     if (!planner_) return;

@@ -133,6 +133,9 @@ public:
     bool learning(int pass) const override;
     // Whether this pass renders by the one-event split (BdptOptions::oneEventSplit).
     bool splitsOneEvent() const { return splitting_; }
+    // Whether this (fixed) tracer's split checks light tracing's factor with the render's Sobol
+    // numbers on `scene` (direct_light_tracing.h): passes that every rank must render.
+    bool checksLightTracing(const Scene& scene) const;
     std::string saveState() const override;
     void loadState(const std::string& state) override;
 
@@ -155,6 +158,8 @@ public:
     double lightSubpathsMade() const;
 
 private:
+    // Whether the one-event split takes this render's samples (one_event_split.h).
+    bool splitApplies(const Scene& scene) const;
     BdptOptions options_;
     StrategyCounts lastPass_, total_;
     std::unique_ptr<AllocationPlanner> planner_;

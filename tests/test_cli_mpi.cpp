@@ -153,6 +153,29 @@ TEST_CASE("mpi: a checkpoint made on 3 ranks resumes on 2 to the same bits", "[m
     }
 }
 
+// A checkpoint that rank 0 refuses (another seed here) fails the job with rank 0's message; the
+// other ranks, which do not read it, do not wait for its passes (before, every rank waited: the
+// job hung with no word; `timeout` turns a hang into exit code 124).
+TEST_CASE("mpi: a checkpoint rank 0 refuses fails the job with its message", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string flags = kRender + "--spp 8", out = dir / "out.exr", ckpt = dir / "state.ckpt";
+    BrumeResult first = runBrume(flags + " -o " + quote(out) + " --checkpoint " + quote(ckpt) + " --stop-after-passes 2");
+    CHECK(first.code != 0);
+    REQUIRE(fs::exists(ckpt));
+    fs::remove(out);
+    Run r = shell("timeout 120 env " + mpirun(2) + quote(BRUME_EXE) + flags + " --seed 7 -o " + quote(out) + " --resume " +
+                  quote(ckpt));
+    INFO(r.err);
+    CHECK(r.code != 0);
+    CHECK(r.code != 124);
+    CHECK(r.err.find("cannot resume this render") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+}
+
 TEST_CASE("mpi: a rank started with other arguments is refused before rendering", "[mpi][cli]") {
     if (!mpiAvailable()) {
         WARN("no MPI build or no mpirun: not run");

@@ -489,10 +489,12 @@ std::string absolutePath(const std::string& path) {
 
 namespace {
 
-// After a step every rank takes on its own (loading the scene, whose files each rank reads
-// where it runs): where it failed on some rank, rank 0 reports its own error, and a rank that
-// failed where rank 0 did not reports its own, naming itself (rank 0 alone could not say why).
-// The exit code to return, or −1 to go on. (A collective: every rank calls it.)
+// After a step of the set-up that may fail on some ranks alone (loading the scene, whose files
+// each rank reads where it runs; rank 0's checkpoint; the state rank 0 sends): where it failed
+// on some rank, rank 0 reports its own error, and a rank that failed where rank 0 did not
+// reports its own, naming itself (rank 0 alone could not say why). The exit code to return, or
+// −1 to go on. (A collective: every rank calls it, before any other collective can wait for a
+// rank that failed.)
 int agreeAfterSetup(const RankGroup& group, std::exception_ptr error) {
     if (group.allOk(!error)) return -1;
     const bool leadFailed = group.broadcast(group.rank() == 0 && error ? "1" : "0") == "1";
@@ -716,24 +718,38 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     Film film(res.width, res.height);
     if (a.aovVariance) film.trackNoise();  // (the variance layer reads its squares)
     uint64_t earlierNonFinite = 0;
-    if (resumed) {
-        checkResumable(a.resume, *resumed, settings, res, a.spp);
-        film = std::move(resumed->film);
-        try {
-            integrator.loadState(resumed->integratorState);
-        } catch (const std::exception& e) {
-            throw std::runtime_error(a.resume + ": corrupt checkpoint (" + e.what() + ")");
+    // (Only rank 0 reads the checkpoint: the ranks agree on how that went before they wait for
+    // its passes and state; a refused checkpoint under mpirun left the other ranks waiting.)
+    std::exception_ptr resumeError;
+    try {
+        if (resumed) {
+            checkResumable(a.resume, *resumed, settings, res, a.spp);
+            film = std::move(resumed->film);
+            try {
+                integrator.loadState(resumed->integratorState);
+            } catch (const std::exception& e) {
+                throw std::runtime_error(a.resume + ": corrupt checkpoint (" + e.what() + ")");
+            }
+            earlierNonFinite = resumed->nonFinite;
+            resumed.reset();
+            std::fprintf(stderr, "brume: resuming %s at pass %d of %d\n", a.resume.c_str(), film.passes(), a.spp);
         }
-        earlierNonFinite = resumed->nonFinite;
-        resumed.reset();
-        std::fprintf(stderr, "brume: resuming %s at pass %d of %d\n", a.resume.c_str(), film.passes(), a.spp);
+    } catch (...) {
+        resumeError = std::current_exception();
     }
+    if (const int exit = agreeAfterSetup(group, resumeError); exit >= 0) return exit;
     // Other ranks start from the resumed pass with rank 0's integrator state (auto's planner).
     int donePasses = film.passes();
     if (group.distributed()) {
         donePasses = std::stoi(group.broadcast(std::to_string(donePasses)));
         const std::string state = group.broadcast(lead ? integrator.saveState() : std::string());
-        if (!lead) integrator.loadState(state);
+        std::exception_ptr stateError;
+        try {
+            if (!lead) integrator.loadState(state);
+        } catch (...) {
+            stateError = std::current_exception();
+        }
+        if (const int exit = agreeAfterSetup(group, stateError); exit >= 0) return exit;
     }
 
     RenderOptions options;

@@ -59,11 +59,12 @@
 // traced there, so C_light is an upper bound), light tracing is turned off: κ = 0, q = 0, the
 // split is the path tracer. (Measured at fixed spp after film positions by inverse distance,
 // docs/results.md: on six fogs of point lights light tracing lowered no error by more than
-// 1 %, raised it up to 2× in dense fog beside a far light, and cost 10–60 % more time per
-// sample. Beside narrow spots it is far better at 4 passes, 14–80×, but the camera side's
-// rate there is twice its own, hence the extrapolation.) Off is safe where the split applies: its camera side has no heavy tail
-// there (equi-angular placement cancels the light's 1/r², the film positions the 1/D of a light
-// in view, everything else is bounded), so there are no rare paths for light tracing to save.
+// 1 %, raised it up to 2× in dense fog beside a far light, and cost 17–58 % more time per
+// sample than the path tracer. Beside narrow spots it is far better at 4 passes, 14–80×, but
+// the camera side's rate there is twice its own, hence the extrapolation.) Off is safe where
+// the split applies: its camera side has no heavy tail there (equi-angular placement cancels
+// the light's 1/r², the film positions the 1/D of a light in view, everything else is
+// bounded), so there are no rare paths for light tracing to save.
 //
 // Deterministic: the camera-side image is written by each pixel's own sample; light
 // tracing's lands anywhere and is summed in 64-bit fixed point (order-free); the factor is

@@ -111,8 +111,10 @@ public:
     bool off() const { return off_; }
     double splitGain() const { return splitGain_; }
     double costRatio() const { return costRatio_; }
-    // The cost of one weight W_C beside the camera side's connection (sample_cost.h's units;
-    // measured on bench_thin_near and bench_dense_far: see docs/results.md).
+    // The cost of one weight W_C beside the camera side's connection (sample_cost.h's units):
+    // an estimate from one profile of the forward fog (val_forward, single scattering), where
+    // the weights took about 12 % of the path tracer's time at 1.5 calls per sample; not fitted,
+    // and not checked on other scenes.
     static constexpr double kWeightCall = 0.6;
     // The check's gains G_camera and G_light (0 until checked).
     double cameraGain() const { return gain_[0]; }

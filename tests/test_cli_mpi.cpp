@@ -212,6 +212,36 @@ TEST_CASE("mpi: a rank that alone fails to load its scene reports it", "[mpi][cl
     CHECK_FALSE(fs::exists(out));
 }
 
+// A pass that throws on one rank (a fault made for tests, as running out of memory would)
+// ends the job on every rank with that rank's message, and nothing is written. Before, the
+// rank left the render loop and the others waited for it in a collective: the job hung, silent
+// (timeout's 124 here).
+TEST_CASE("mpi: a pass that fails on one rank ends the job with its message", "[mpi][cli]") {
+    if (!mpiAvailable()) {
+        WARN("no MPI build or no mpirun: not run");
+        return;
+    }
+    TempDir dir;
+    const std::string out = dir / "out.exr";
+    for (const char* fault : {"1:0", "1:5", "0:5", "2:6"}) {
+        INFO(fault);
+        Run r = shell("timeout 120 env " + mpirun(3) + quote(BRUME_EXE) + kRender + "--spp 12 -o " + quote(out) +
+                      " --fail-at-pass " + fault);
+        INFO(r.err);
+        CHECK(r.code == 1);
+        CHECK(r.err.find("brume: rank " + std::string(1, fault[0]) + ": a fault made for tests at pass " +
+                         std::string(fault + 2)) != std::string::npos);
+        if (fault[0] != '0') CHECK(r.err.find("brume: the render failed on another rank; nothing written") != std::string::npos);
+        CHECK_FALSE(fs::exists(out));
+    }
+    // A fault at a pass the render never reaches changes nothing.
+    Run r = shell("timeout 120 env " + mpirun(2) + quote(BRUME_EXE) + kRender + "--spp 4 -o " + quote(out) +
+                  " --fail-at-pass 1:40");
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(fs::exists(out));
+}
+
 // Adaptive stopping decides after every pass from the whole film: not over several processes.
 TEST_CASE("mpi: --noise-threshold is refused under mpirun", "[mpi][cli]") {
     if (!mpiAvailable()) {

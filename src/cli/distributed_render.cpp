@@ -166,20 +166,35 @@ DistributedResult renderOnRanks(const RankGroup& group, const Scene& scene, Inte
     RankReport mine;
     DistributedResult result;
 
-    // After each pass or round, all ranks agree: stop (a signal anywhere, or rank 0's clock
-    // past the budget) and save a checkpoint (rank 0's clock).
+    // A pass that throws on this rank (memory, say) is kept and told at the next agreement:
+    // had it left the loop, the other ranks would wait for it in a collective forever.
+    auto pass = [&](Film& f, int index) {
+        if (result.failure) return RenderStats{};
+        try {
+            if (me == plan.failRank && index == plan.failPass)
+                throw std::runtime_error("a fault made for tests at pass " + std::to_string(index));
+            return renderPass(scene, integrator, options, f, index);
+        } catch (...) {
+            result.failure = std::current_exception();
+            return RenderStats{};
+        }
+    };
+
+    // After each pass or round, all ranks agree: stop (a signal anywhere, a failed pass
+    // anywhere, or rank 0's clock past the budget) and save a checkpoint (rank 0's clock).
     enum { kStop = 1, kSave = 2 };
+    enum { kInterrupted = 1, kFailed = 2 };
     auto agree = [&](bool last) {
-        int local = interrupted() ? 1 : 0, any = 0;
-        MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        int local = (interrupted() ? kInterrupted : 0) | (result.failure ? kFailed : 0), any = 0;
+        MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_BOR, MPI_COMM_WORLD);
+        if (any & kFailed) result.failed = true;
+        if (any & kInterrupted) result.stopped = true;
         int decision = 0;
         if (me == 0) {
-            if (any) result.stopped = true;
             if (any || last || (plan.lastPass < 0 && secondsSince(start) >= plan.timeBudget)) decision |= kStop;
             if (!(decision & kStop) && checkpointEvery > 0 && secondsSince(lastSave) >= checkpointEvery) decision |= kSave;
         }
         MPI_Bcast(&decision, 1, MPI_INT, 0, MPI_COMM_WORLD);
-        if (any) result.stopped = true;
         return decision;
     };
     auto nonFiniteSoFar = [&] {
@@ -199,7 +214,7 @@ DistributedResult renderOnRanks(const RankGroup& group, const Scene& scene, Inte
     int next = plan.firstPass;
     for (; next < plan.pilotEnd && !stop; ++next) {
         Film scratch(film.width(), film.height());
-        RenderStats s = renderPass(scene, integrator, options, me == 0 ? film : scratch, next);
+        RenderStats s = pass(me == 0 ? film : scratch, next);
         if (me == 0) account(mine, s);
         else mine.busySeconds += s.seconds;  // (busy, though its pilot is not in the image)
         const bool last = plan.lastPass >= 0 && next + 1 >= plan.lastPass;
@@ -209,8 +224,8 @@ DistributedResult renderOnRanks(const RankGroup& group, const Scene& scene, Inte
     }
     // The rounds: rank r renders pass next + k·N + r in round k.
     for (int k = 0; !stop; ++k) {
-        const int pass = next + k * N + me;
-        if (plan.lastPass < 0 || pass < plan.lastPass) account(mine, renderPass(scene, integrator, options, film, pass));
+        const int index = next + k * N + me;
+        if (plan.lastPass < 0 || index < plan.lastPass) account(mine, pass(film, index));
         const bool last = plan.lastPass >= 0 && next + (k + 1) * N >= plan.lastPass;
         const int d = agree(last);
         stop = d & kStop;

@@ -14,6 +14,7 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <optional>
 #include <stdexcept>
 
@@ -142,6 +143,7 @@ struct RenderArgs {
     bool aovAlbedo = false, aovNormal = false, aovVariance = false;  // --aov
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
+    int failRank = -1, failPass = -1;  // testing only: that rank fails at that pass (PassPlan)
 };
 
 // The most passes adaptive stopping renders when neither --spp nor --time bounds it.
@@ -322,6 +324,13 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     // For tests: as if SIGTERM came after N passes. No description: not in the help.
     addOption(app, "--stop-after-passes", "N", "",
               [&](const std::string& v) { a.stopAfterPasses = int(parseInteger("--stop-after-passes", v, 0, 1 << 24)); });
+    // For tests: rank RANK (under mpirun) fails as it starts pass PASS. Not in the help.
+    addOption(app, "--fail-at-pass", "RANK:PASS", "", [&](const std::string& v) {
+        const size_t colon = v.find(':');
+        if (colon == std::string::npos) throw UsageError("--fail-at-pass: expected RANK:PASS, got '" + v + "'");
+        a.failRank = int(parseInteger("--fail-at-pass", v.substr(0, colon), 0, 1 << 20));
+        a.failPass = int(parseInteger("--fail-at-pass", v.substr(colon + 1), 0, 1 << 24));
+    });
     if (!parseCommand(app, argv)) return false;
 
     if (a.scene.empty()) throw UsageError("render: no scene file given");
@@ -489,6 +498,19 @@ std::string absolutePath(const std::string& path) {
 
 namespace {
 
+// What an error says, for a line of stderr.
+std::string errorText(std::exception_ptr error) {
+    try {
+        std::rethrow_exception(error);
+    } catch (const std::bad_alloc&) {
+        return "out of memory";
+    } catch (const std::exception& e) {
+        return e.what();
+    } catch (...) {
+        return "an unknown error";
+    }
+}
+
 // After a step of the set-up that may fail on some ranks alone (loading the scene, whose files
 // each rank reads where it runs; rank 0's checkpoint; the state rank 0 sends): where it failed
 // on some rank, rank 0 reports its own error, and a rank that failed where rank 0 did not
@@ -499,15 +521,7 @@ int agreeAfterSetup(const RankGroup& group, std::exception_ptr error) {
     if (group.allOk(!error)) return -1;
     const bool leadFailed = group.broadcast(group.rank() == 0 && error ? "1" : "0") == "1";
     if (error && group.rank() == 0) std::rethrow_exception(error);
-    if (error && !leadFailed) {
-        try {
-            std::rethrow_exception(error);
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "brume: rank %d: %s\n", group.rank(), e.what());
-        } catch (...) {
-            std::fprintf(stderr, "brume: rank %d: its set-up failed\n", group.rank());
-        }
-    }
+    if (error && !leadFailed) std::fprintf(stderr, "brume: rank %d: %s\n", group.rank(), errorText(error).c_str());
     return kExitFailure;
 }
 
@@ -801,6 +815,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         plan.firstPass = donePasses;
         plan.lastPass = a.seconds > 0 ? -1 : a.spp;
         plan.timeBudget = a.seconds;
+        plan.failRank = a.failRank;
+        plan.failPass = a.failPass;
         // auto decides after its pilot and duel passes: every rank renders them, so all decide alike.
         // So does bdpt its passes that learn light tracing's share (direct_light_tracing.h), and
         // in single scattering, where the split checks that share with Sobol numbers and turns
@@ -839,6 +855,16 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         auto save = [&](const Film& f, uint64_t nf) { periodic(f, earlierNonFinite + nf); };
         shared = renderOnRanks(group, scene, integrator, options, film, plan, interrupted, every < 1e30 ? every : 0.0, save);
         stats = shared.stats;
+        // A pass that failed on some rank ended the render on every rank: each that failed
+        // says why, naming itself; nothing is written.
+        if (shared.failed) {
+            if (shared.failure) {
+                std::fprintf(stderr, "brume: rank %d: %s\n", group.rank(), errorText(shared.failure).c_str());
+            } else if (lead) {
+                std::fprintf(stderr, "brume: the render failed on another rank; nothing written\n");
+            }
+            return kExitFailure;
+        }
         if (shared.stopped && gSignal.load() == 0) gSignal.store(SIGTERM);  // stopped for another rank
         if (shared.stopped) gInterrupted.store(true);
         if (!lead) return shared.stopped ? exitCodeFor(gSignal.load()) : kExitOk;

@@ -14,6 +14,7 @@
 // Without MPI (or outside mpirun) there is one rank and none of this runs.
 #pragma once
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <string>
 #include <vector>
@@ -54,6 +55,9 @@ struct PassPlan {
     int lastPass = -1;
     int pilotEnd = 0;
     double timeBudget = 0;  // seconds, with lastPass < 0
+    // For tests (render's hidden --fail-at-pass RANK:PASS): rank failRank throws when it
+    // starts pass failPass, as a rank that runs out of memory would.
+    int failRank = -1, failPass = -1;
 };
 
 // A rank's own account, gathered on rank 0.
@@ -68,6 +72,10 @@ struct DistributedResult {
     std::vector<RankReport> ranks;   // rank 0 only: one per rank
     double reduceSeconds = 0;        // the final reduction of the films (rank 0's view)
     bool stopped = false;            // by a signal
+    // A pass failed on some rank (an exception in its render): every rank stopped at the next
+    // agreement, and `failure` holds this rank's own error (null where it was another's).
+    bool failed = false;
+    std::exception_ptr failure;
 };
 
 // Renders `plan` on all ranks. `film` holds what is done already (rank 0: a resumed

@@ -110,9 +110,9 @@ void DirectLightTracing::endCheckPass(const PathCounts* counts, int renderPasses
     if (!ready_.load()) return;
     const size_t n = camera_.size();
     if (weights_.size() != n) weights_.assign(n, 1.0f);
-    std::vector<float> lightImage(n), splitImage(n);
-    for (size_t i = 0; i < n; ++i) lightImage[i] = float(double(light_[i].load(std::memory_order_relaxed)) / kScale);
     const bool split = splitCamera_.size() == n && splitLight_;
+    std::vector<float> lightImage(n), splitImage(split ? n : 0);
+    for (size_t i = 0; i < n; ++i) lightImage[i] = float(double(light_[i].load(std::memory_order_relaxed)) / kScale);
     if (split)
         for (size_t i = 0; i < n; ++i)
             splitImage[i] = splitCamera_[i] + float(double(splitLight_[i].load(std::memory_order_relaxed)) / kScale);

@@ -93,13 +93,11 @@ float OneEventSplit::cameraFamilyWeight(const Scene& scene, Vec3 x, const Medium
     if (!(s2 > 0)) return 1.0f;
     const double s = std::sqrt(s2);
     const Vec3 dir = toX / float(s);
-    if (rayFilm_ < 0) {
-        const double cos = double(dot(dir, cam.forward));
+    const double cos = double(dot(dir, cam.forward));
+    if (rayFilm_ < 0)
         rayFilm_ = cos > 0 ? double(cameraPdfDir(cam, dir, width, height)) * cos * cos * cos *
                                  (lightPixels ? double(lightPixels->density(rayFx_, rayFy_)) : 1.0)
                            : 0.0;
-    }
-    const double cos = double(dot(dir, cam.forward));
     return weightFrom(scene, x, m, li, y, rayFilm_ / (cos * cos * cos * s2) * cameraDensity * rayPick(scene, dir, li));
 }
 

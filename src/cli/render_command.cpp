@@ -642,10 +642,13 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
                                                 fixed4(direct->cameraGain()) + ", light tracing " + fixed4(direct->lightGain()))
                                                    .c_str()
                                              : "");
-    if (direct && a.stats && direct->costRatio() > 0)
-        std::printf("light tracing %s: with it the one-event paths' variance is %.3g× lower (the check's 4-pass batches, "
+    if (direct && a.stats && direct->costRatio() > 0) {
+        const double gain = direct->splitGain();
+        std::printf("light tracing %s: with it the one-event paths' variance is %.3g× %s (the check's 4-pass batches, "
                     "carried to the render's length), at %.3g× the cost (counted)\n",
-                    direct->off() ? "off" : "kept", direct->splitGain(), direct->costRatio());
+                    direct->off() ? "off" : "kept", gain >= 1 ? gain : 1.0 / gain, gain >= 1 ? "lower" : "higher",
+                    direct->costRatio());
+    }
     if (group.distributed()) {
         // Per rank: samples/s over its own rendering time; the balance: the least busy rank's
         // rendering time over the busiest one's.

@@ -12,25 +12,24 @@ namespace brume {
 
 namespace {
 
-// The reverse densities a record's connection sets at the four vertices next to it
-// (connectionReverseDensities, connectionNeighbours). They read the film, the guide and where
-// the camera walk passes through media, which the fourteen settings below share: computed
-// under the first, reused under the rest (the same bits; the other 13 calls took 0.03 s of
-// the thin lamp's 0.52-s pilot).
-struct ReverseDensities {
-    Channels at[4];
-};
-
-// u for every record under settings `st`: the subpaths' sums recomputed, then each record's
-// weight with its own vertices in place. `reverse` holds each record's reverse densities:
-// computed where `computeReverse`, else read.
-void perCounts(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* light, int nLight, MisSettings st,
-               const std::vector<WeightRecord>& records, std::vector<double>& u, std::vector<ReverseDensities>& reverse,
-               bool computeReverse) {
-    misPrefixes(scene, camera, nCamera, true, st);
-    misPrefixes(scene, light, nLight, false, st);
-    u.resize(records.size());
-    if (computeReverse) reverse.resize(records.size());
+// u for every record under each of the settings `st` (lanes, at most kMaxMisLanes):
+// u[ℓ][i] = misWeight's perCount of record i under st[ℓ]. The subpaths' sums are found under
+// each setting once per sample; each record's vertex (where it moved one) and reverse densities
+// are put in place once for all its settings (misPerCountLanes): before, fourteen weight
+// evaluations per record, each putting them in place and finding ρ again, were 29 % of a
+// partial pilot's time on the forward fog.
+void perCounts(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* light, int nLight, const MisSettings* st,
+               int lanes, const std::vector<WeightRecord>& records, std::vector<double>* u) {
+    thread_local std::vector<MisSums> cameraSums, lightSums;
+    cameraSums.resize(size_t(lanes) * size_t(nCamera));
+    lightSums.resize(size_t(lanes) * size_t(nLight));
+    for (int l = 0; l < lanes; ++l) {
+        misPrefixes(scene, camera, nCamera, true, st[l]);
+        misPrefixes(scene, light, nLight, false, st[l]);
+        copyMisSums(camera, nCamera, cameraSums.data() + size_t(l) * size_t(nCamera));
+        copyMisSums(light, nLight, lightSums.data() + size_t(l) * size_t(nLight));
+        u[l].resize(records.size());
+    }
     for (size_t i = 0; i < records.size(); ++i) {
         const WeightRecord& r = records[i];
         PathVertex* slot = r.moved ? (r.t >= 2 ? &camera[r.t - 1] : &light[r.s - 1]) : nullptr;
@@ -40,23 +39,19 @@ void perCounts(const Scene& scene, PathVertex* camera, int nCamera, PathVertex* 
             std::memcpy(static_cast<void*>(slot), static_cast<const void*>(&r.vertex), sizeof(PathVertex));
         }
         PathVertex* lightPath = r.hasLightVertex ? const_cast<PathVertex*>(&r.lightVertex) : light;
-        // As strategyWeight: the connection's reverse densities in place, put back after.
+        // As strategyWeight: the connection's reverse densities in place, put back after. (They
+        // read the film, the guide and where the camera walk passes through media, which the
+        // settings share.)
         PathVertex* touched[4];
         connectionNeighbours(lightPath, r.s, camera, r.t, touched);
         Channels before[4];
         for (int k = 0; k < 4; ++k)
             if (touched[k]) before[k] = touched[k]->pdfRev;
-        if (computeReverse) {
-            connectionReverseDensities(scene, lightPath, r.s, camera, r.t, r.join, st);
-            for (int k = 0; k < 4; ++k)
-                if (touched[k]) reverse[i].at[k] = touched[k]->pdfRev;
-        } else {
-            for (int k = 0; k < 4; ++k)
-                if (touched[k]) touched[k]->pdfRev = reverse[i].at[k];
-        }
-        double pc = 0;
-        misWeight(scene, lightPath, camera, r.s, r.t, st, r.join.equiAngular, r.join.crossed, r.join.ownEquiAngularDensity, &pc);
-        u[i] = pc;
+        connectionReverseDensities(scene, lightPath, r.s, camera, r.t, r.join, st[0]);
+        double pc[kMaxMisLanes];
+        misPerCountLanes(scene, lightPath, camera, r.s, r.t, st, lanes, r.join.equiAngular, r.join.crossed,
+                         r.join.ownEquiAngularDensity, cameraSums.data(), nCamera, lightSums.data(), nLight, pc);
+        for (int l = 0; l < lanes; ++l) u[l][i] = pc[l];
         for (int k = 0; k < 4; ++k)
             if (touched[k]) touched[k]->pdfRev = before[k];
         if (slot) std::memcpy(static_cast<void*>(slot), saved, sizeof(PathVertex));
@@ -118,18 +113,20 @@ void accumulateMoments(const Scene& scene, PathVertex* camera, int nCamera, Path
     const MisHeuristic h = pilot.heuristic, hm = h == MisHeuristic::Power ? MisHeuristic::Cube : MisHeuristic::Balance;
     const int sets = hm == h ? 1 : 2;
     thread_local std::vector<double> u[2][kParts];
-    thread_local std::vector<ReverseDensities> reverse;
+    MisSettings basis[2 * kParts];
     for (int k = 0; k < sets; ++k)
         for (int b = 0; b < kParts; ++b) {
-            MisSettings basis = pilot;
-            basis.heuristic = k == 0 ? h : hm;
-            basis.generalConnection = b == 4 ? 1.0 : 0.0;
-            basis.cameraConnection = b == 2 || b == 3 || b == 6 ? 1.0 : 0.0;
-            basis.equiAngularLight = b == 1 || b == 5;
-            basis.equiAngularCamera = b == 3 || b == 6;
-            basis.equiAngularOnly = b >= 5;
-            perCounts(scene, camera, nCamera, light, nLight, basis, records, u[k][b], reverse, k == 0 && b == 0);
+            MisSettings& st = basis[k * kParts + b];
+            st = pilot;
+            st.heuristic = k == 0 ? h : hm;
+            st.generalConnection = b == 4 ? 1.0 : 0.0;
+            st.cameraConnection = b == 2 || b == 3 || b == 6 ? 1.0 : 0.0;
+            st.equiAngularLight = b == 1 || b == 5;
+            st.equiAngularCamera = b == 3 || b == 6;
+            st.equiAngularOnly = b >= 5;
         }
+    static_assert(2 * kParts <= kMaxMisLanes, "the settings are lanes of one evaluation");
+    perCounts(scene, camera, nCamera, light, nLight, basis, sets * kParts, records, &u[0][0]);
     // The denominators T = 1/u of the seven settings (u: misWeight's perCount), as parts.
     auto partsOf = [&](int k, size_t i) {
         double T[kParts];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "brume/integrators/bdpt_equiangular.h"
 #include "brume/integrators/light_numbers.h"
@@ -27,20 +28,35 @@ namespace {
 // range) and stored as its logarithm in double, to keep the vertices small.
 template <class Real> struct Sums;
 template <> struct Sums<double> {
-    static double prefix(const PathVertex& v, int) { return v.misPrefixGrey; }
-    static ChannelsOf<double> variant(const PathVertex& v) { return ChannelsOf<double>(v.misVariantGrey); }
+    template <class V> static double prefix(const V& v, int) { return v.misPrefixGrey; }
+    template <class V> static ChannelsOf<double> variant(const V& v) { return ChannelsOf<double>(v.misVariantGrey); }
     static void set(PathVertex& v, int, double prefix) { v.misPrefixGrey = prefix; }
     static void setVariant(PathVertex& v, const ChannelsOf<double>& V) { v.misVariantGrey = V[0]; }
 };
 template <> struct Sums<long double> {  // kept as natural logarithms in double (log 0 = −∞)
-    static long double prefix(const PathVertex& v, int c) { return std::exp((long double)v.misPrefix[c]); }
-    static WideChannels variant(const PathVertex& v) {
+    template <class V> static long double prefix(const V& v, int c) { return std::exp((long double)v.misPrefix[c]); }
+    template <class V> static WideChannels variant(const V& v) {
         return WideChannels(std::exp((long double)v.misVariant[0]), std::exp((long double)v.misVariant[1]),
                             std::exp((long double)v.misVariant[2]));
     }
     static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = double(std::log(prefix)); }
     static void setVariant(PathVertex& v, const WideChannels& V) {
         for (int c = 0; c < 3; ++c) v.misVariant[c] = double(std::log(V[c]));
+    }
+};
+
+// Where misWeight reads the subpaths' sums: in the vertices (one setting), or per lane in
+// copies (misPerCountLanes; the vertex at index i of a side, under lane ℓ's settings).
+struct VertexSums {
+    const PathVertex& at(const PathVertex* path, bool, int i, int) const { return path[i]; }
+};
+struct LaneSums {
+    const MisSums* camera;
+    int cameraStride;
+    const MisSums* light;
+    int lightStride;
+    const MisSums& at(const PathVertex*, bool cameraSide, int i, int lane) const {
+        return cameraSide ? camera[size_t(lane) * size_t(cameraStride) + size_t(i)] : light[size_t(lane) * size_t(lightStride) + size_t(i)];
     }
 };
 
@@ -78,38 +94,60 @@ ChannelsOf<Real> equiAngularRatio(const Scene& scene, const PathVertex& p, const
 
 // V for the strategy whose connection vertex v (camera side, reached from prev over an edge
 // that crossed a boundary or not) is joined to `anchor` (the path's last vertex or not):
-// [free flight on] + [equi-angular on] · ρ^β, per channel. *rho receives ρ (0: no
-// equi-angular variant). `general`: the strategy is a general connection (s, t ≥ 2), which
-// has an equi-angular variant only with MisSettings::generalEquiAngular and is made with
-// probability MisSettings::generalConnection. freeFlightOff: v is
-// the camera walk's vertex MisSettings::passFirstAt, which it never makes in a medium.
-template <class Real, int N>
-ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
-                           bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho,
-                           bool freeFlightOff = false) {
+// [free flight on] + [equi-angular on] · ρ^β, per channel, under each of L settings (lanes,
+// misPerCountLanes: they share ρ and the light's pick; a lane's count of camera connections is
+// cameraCount[ℓ]). rho[ℓ] receives ρ (0: no equi-angular variant). `general`: the strategy is a
+// general connection (s, t ≥ 2), which has an equi-angular variant only with
+// MisSettings::generalEquiAngular and is made with probability MisSettings::generalConnection.
+// freeFlightOff: v is the camera walk's vertex MisSettings::passFirstAt, which it never makes
+// in a medium.
+template <class Real, int N, int L>
+void variantFactors(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
+                    bool anchorEndsPath, bool general, bool edgeCrossed, const MisSettings* st, const double* cameraCount,
+                    ChannelsOf<Real>* V, ChannelsOf<Real>* rho, bool freeFlightOff = false) {
     using RC = ChannelsOf<Real>;
     // The strategy's kind: a general connection, a light connection (s = 1: the anchor ends
     // the path) or a camera connection (t = 1), and whether the allocation gives it an
     // equi-angular variant.
     const bool cameraConnection = !general && !anchorEndsPath;
-    const bool eaAllowed = general ? st.generalEquiAngular : anchorEndsPath ? st.equiAngularLight : st.equiAngularCamera;
-    RC r(Real(0));
-    if (st.connect != ConnectMode::Density && v.isMedium() && !edgeCrossed && eaAllowed)
-        r = equiAngularRatio<Real, N>(scene, prev, v, anchor, anchorEndsPath, st);
-    if (rho) *rho = r;
-    RC V(Real(1));
-    for (int c = 0; c < N; ++c) {
-        bool eaOn = r[c] > 0;
-        bool ffOn = !((equiAngularReplacesFreeFlight(st) || freeFlightOff) && eaOn);
-        V[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st.heuristic, r[c]) : Real(0));
+    bool eaAllowed[L], anyAllowed = false;
+    for (int l = 0; l < L; ++l) {
+        eaAllowed[l] = general ? st[l].generalEquiAngular : anchorEndsPath ? st[l].equiAngularLight : st[l].equiAngularCamera;
+        anyAllowed = anyAllowed || eaAllowed[l];
     }
+    const bool eaPossible = st[0].connect != ConnectMode::Density && v.isMedium() && !edgeCrossed;
+    RC r(Real(0));
+    if (eaPossible && anyAllowed) r = equiAngularRatio<Real, N>(scene, prev, v, anchor, anchorEndsPath, st[0]);
     // A general connection is made with probability p: its densities count p times; a camera
     // connection as often as the allocation makes it (0 or 1). A light connection picks its
     // light by where it starts, every other strategy by power: its density is the light
     // subpath's start (the anchor's pdfFwd) times λ = its pick over power's (light_numbers.h).
-    double count = general ? st.generalConnection : cameraConnection ? st.cameraConnection : 1.0;
-    if (anchorEndsPath && anchor.light >= 0) count *= lightConnectionPickRatio(scene, prev.p, v.p, v.isMedium(), anchor.light);
-    if (count != 1.0) V *= misPower(st.heuristic, Real(count));
+    const bool picks = anchorEndsPath && anchor.light >= 0;
+    const double pick = picks ? lightConnectionPickRatio(scene, prev.p, v.p, v.isMedium(), anchor.light) : 1.0;
+    for (int l = 0; l < L; ++l) {
+        const RC rl = eaAllowed[l] ? r : RC(Real(0));
+        if (rho) rho[l] = rl;
+        RC Vl(Real(1));
+        for (int c = 0; c < N; ++c) {
+            bool eaOn = rl[c] > 0;
+            bool ffOn = !((equiAngularReplacesFreeFlight(st[l]) || freeFlightOff) && eaOn);
+            Vl[c] = (ffOn ? Real(1) : Real(0)) + (eaOn ? misPower(st[l].heuristic, rl[c]) : Real(0));
+        }
+        double count = general ? st[l].generalConnection : cameraConnection ? cameraCount[l] : 1.0;
+        if (picks) count *= pick;
+        if (count != 1.0) Vl *= misPower(st[l].heuristic, Real(count));
+        V[l] = Vl;
+    }
+}
+
+// The same under one setting.
+template <class Real, int N>
+ChannelsOf<Real> variantFactor(const Scene& scene, const PathVertex& prev, const PathVertex& v, const PathVertex& anchor,
+                               bool anchorEndsPath, bool general, bool edgeCrossed, MisSettings st, ChannelsOf<Real>* rho,
+                               bool freeFlightOff = false) {
+    ChannelsOf<Real> V;
+    variantFactors<Real, N, 1>(scene, prev, v, anchor, anchorEndsPath, general, edgeCrossed, &st, &st.cameraConnection, &V,
+                               rho, freeFlightOff);
     return V;
 }
 
@@ -157,16 +195,17 @@ void misPrefixesIn(const Scene& scene, PathVertex* path, int n, bool cameraSide,
 // passFirstAt): their reverse densities then lose their free-flight factor (a medium vertex
 // at passFirstAt keeps it, and its strategy loses its free-flight variant instead), and a
 // medium vertex at passFirstAt rules out the emitter hit beyond it (s = 0). Summed afresh for
-// every channel at once, O(j); only the longest paths a --max-depth allows need it.
-template <class Real, int N>
-ChannelsOf<Real> passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k, bool emitterHitOff,
-                                   MisSettings st) {
+// every channel at once, O(j), into q[ℓ] for each lane; only the longest paths a --max-depth
+// allows need it.
+template <class Real, int N, int L, class Store>
+void passedLightPrefix(const Scene& scene, const PathVertex* light, int j, int k, bool emitterHitOff,
+                       const MisSettings* st, const double* cameraCount, const Store& sums, ChannelsOf<Real>* q) {
     using RC = ChannelsOf<Real>;
-    const MisHeuristic h = st.heuristic;
-    RC q(Real(0));
+    const MisSettings& s0 = st[0];  // (what the lanes share)
+    for (int l = 0; l < L; ++l) q[l] = RC(Real(0));
     for (int i = 0; i <= j; ++i) {
         const int ci = k - i;  // y_i as the camera walk's vertex
-        const bool passes = cameraWalkPasses(st, ci, light[i + 1].delta) && !(light[i].isMedium() && ci < st.passFrom);
+        const bool passes = cameraWalkPasses(s0, ci, light[i + 1].delta) && !(light[i].isMedium() && ci < s0.passFrom);
         double rev = -1;  // the camera walk's density without free flight (−1: the stored one serves)
         if (passes && !(i == 0 && light[0].deltaLight)) {
             // y_i made from y(i+1), which the camera walk reached from y(i+2) (i ≤ j ≤ s − 3).
@@ -175,81 +214,108 @@ ChannelsOf<Real> passedLightPrefix(const Scene& scene, const PathVertex* light, 
             w = d > 0 ? w / d : Vec3(0.0f);
             rev = solidAngleToArea(
                 light[i], w,
-                vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, st.width, st.height,
-                                   st.cameraGuide),
+                vertexDirectionPdf(scene, light[i + 1], normalize(light[i + 2].p - light[i + 1].p), -w, s0.width, s0.height,
+                                   s0.cameraGuide),
                 d);
         }
         const bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
         const bool on = !light[i].delta && !deltaBefore && !(i == 0 && emitterHitOff);
-        RC V(Real(0));
-        if (on)
-            V = i >= 1 && ci == st.passFirstAt
-                    ? variantFactor<Real, N>(scene, light[i + 1], light[i], light[i - 1], i == 1, i >= 2,
-                                             light[i + 1].edgeCrossed, st, nullptr, true)
-                    : Sums<Real>::variant(light[i]);
-        for (int c = 0; c < N; ++c) {
-            const Real r = rev >= 0 ? misPower(h, Real(remap0(rev)) / Real(remap0(light[i].pdfFwd[c])))
-                                    : ratioPow<Real>(h, light[i], c);
-            q[c] = r * (V[c] + q[c]);
+        RC V[L];
+        for (int l = 0; l < L; ++l) V[l] = RC(Real(0));
+        if (on) {
+            if (i >= 1 && ci == s0.passFirstAt)
+                variantFactors<Real, N, L>(scene, light[i + 1], light[i], light[i - 1], i == 1, i >= 2, light[i + 1].edgeCrossed,
+                                           st, cameraCount, V, nullptr, true);
+            else
+                for (int l = 0; l < L; ++l) V[l] = Sums<Real>::variant(sums.at(light, false, i, l));
         }
+        for (int l = 0; l < L; ++l)
+            for (int c = 0; c < N; ++c) {
+                const MisHeuristic h = st[l].heuristic;
+                const Real r = rev >= 0 ? misPower(h, Real(remap0(rev)) / Real(remap0(light[i].pdfFwd[c])))
+                                        : ratioPow<Real>(h, light[i], c);
+                q[l][c] = r * (V[l][c] + q[l][c]);
+            }
     }
-    return q;
 }
 
-template <class Real, int N>
-double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
-                   bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity, double* perCount) {
+// The weight of strategy (s, t) under each of L settings (lanes; one for misWeight): weight[ℓ]
+// and perCount[ℓ] (misWeight's *perCount). The settings differ only in what misPerCountLanes
+// allows; the subpaths' sums are read through `sums`.
+template <class Real, int N, int L, class Store>
+void misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, const MisSettings* st,
+                 bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity, const Store& sums, double* weight,
+                 double* perCount) {
     using RC = ChannelsOf<Real>;
-    const MisHeuristic h = st.heuristic;
+    const MisSettings& s0 = st[0];  // (what the lanes share)
     const int k = s + t - 1;  // vertices x0 … xk
     // Paths of one scattering event: the camera connection's count times the learned factor
     // (no prefix is read for them, so every term below sees it), or 0 for the camera side
     // alone.
-    const bool lightTracingAlone = k == 2 && st.directAlone == MisSettings::Alone::LightTracing;
-    if (k == 2) st.cameraConnection *= st.directAlone == MisSettings::Alone::CameraSide ? 0.0 : st.directLightTracing;
+    const bool lightTracingAlone = k == 2 && s0.directAlone == MisSettings::Alone::LightTracing;
+    double cameraCount[L];
+    for (int l = 0; l < L; ++l) {
+        cameraCount[l] = st[l].cameraConnection;
+        if (k == 2) cameraCount[l] *= st[l].directAlone == MisSettings::Alone::CameraSide ? 0.0 : st[l].directLightTracing;
+    }
     auto at = [&](int m) -> const PathVertex& { return m < t ? camera[m] : light[k - m]; };
     auto crossed = [&](int m) {  // the edge x(m−1)–x(m)
         if (m < t) return camera[m].edgeCrossed;
         if (m - 1 >= t) return at(m - 1).edgeCrossed;  // light subpath: stored on its later vertex
         return connectionCrossed;
     };
-    // V_tt on the joined path (tt camera vertices).
-    auto variants = [&](int tt, RC* rho) {
-        if (tt >= 2 && k + 1 - tt >= 1)
-            return variantFactor<Real, N>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, tt < k, crossed(tt - 1), st, rho,
-                                          tt - 1 == st.passFirstAt);
-        if (tt == 1 && k >= 2) return variantFactor<Real, N>(scene, at(2), at(1), at(0), false, false, crossed(2), st, rho);
-        if (rho) *rho = RC(Real(0));
-        return RC(tt == 1 ? misPower(h, Real(st.cameraConnection)) : Real(1));
+    // V_tt on the joined path (tt camera vertices), per lane.
+    auto variants = [&](int tt, RC* V, RC* rho) {
+        if (tt >= 2 && k + 1 - tt >= 1) {
+            variantFactors<Real, N, L>(scene, at(tt - 2), at(tt - 1), at(tt), tt == k, tt < k, crossed(tt - 1), st,
+                                       cameraCount, V, rho, tt - 1 == s0.passFirstAt);
+        } else if (tt == 1 && k >= 2) {
+            variantFactors<Real, N, L>(scene, at(2), at(1), at(0), false, false, crossed(2), st, cameraCount, V, rho);
+        } else {
+            for (int l = 0; l < L; ++l) {
+                if (rho) rho[l] = RC(Real(0));
+                V[l] = RC(tt == 1 ? misPower(st[l].heuristic, Real(cameraCount[l])) : Real(1));
+            }
+        }
     };
     // The V terms next to the connection, per channel (each may cost an equi-angular density).
-    RC rhoOwn(Real(0));
-    RC ownV(Real(0));  // (not read for an equi-angular sample)
+    RC rhoOwn[L];
+    RC ownV[L];  // (not read for an equi-angular sample)
+    for (int l = 0; l < L; ++l) rhoOwn[l] = ownV[l] = RC(Real(0));
     if (ownEquiAngular && ownEquiAngularDensity > 0) {
         // ρ of the moved vertex from its placement: p_ea over the free flight of its edge.
         const Channels& pff = (t >= 2 ? camera[t - 1] : light[s - 1]).edgeFwdFreeFlight;
-        for (int c = 0; c < N; ++c) rhoOwn[c] = pff[c] > 0 ? Real(ownEquiAngularDensity) / Real(pff[c]) : Real(0);
+        for (int l = 0; l < L; ++l)
+            for (int c = 0; c < N; ++c) rhoOwn[l][c] = pff[c] > 0 ? Real(ownEquiAngularDensity) / Real(pff[c]) : Real(0);
     } else {
-        ownV = variants(t, &rhoOwn);
+        variants(t, ownV, rhoOwn);
     }
-    RC camV[2], lightV[2];
+    RC camV[2][L], lightV[2][L];
     bool camOn[2] = {false, false}, lightOn[2] = {false, false};
     // A medium vertex at the camera walk's index passFirstAt, which that walk never makes:
     // the emitter hit beyond it (s = 0) cannot make this path.
-    const bool emitterHitOff = k == st.passFirstAt + 1 && at(k - 1).isMedium() && !at(k - 2).delta;
+    const bool emitterHitOff = k == s0.passFirstAt + 1 && at(k - 1).isMedium() && !at(k - 2).delta;
     for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
         int reads = std::max(i, 2);  // the last camera vertex V_i looks at
-        bool own = (reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1)) && i - 1 != st.passFirstAt;
+        bool own = (reads < t - 1 || (reads == t - 1 && !ownEquiAngular && s >= 1)) && i - 1 != s0.passFirstAt;
         int slot = i - (t - 2);
         camOn[slot] = !camera[i].delta && !camera[i - 1].delta;
-        if (camOn[slot]) camV[slot] = own ? Sums<Real>::variant(camera[i]) : variants(i, nullptr);
+        if (!camOn[slot]) continue;
+        if (own)
+            for (int l = 0; l < L; ++l) camV[slot][l] = Sums<Real>::variant(sums.at(camera, true, i, l));
+        else
+            variants(i, camV[slot], nullptr);
     }
     for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
-        bool own = i == s - 2 && !(t == 1 && ownEquiAngular) && t + s - i - 1 != st.passFirstAt;
+        bool own = i == s - 2 && !(t == 1 && ownEquiAngular) && t + s - i - 1 != s0.passFirstAt;
         bool deltaBefore = i > 0 ? light[i - 1].delta : light[0].deltaLight;
         int slot = i - (s - 2);
         lightOn[slot] = !light[i].delta && !deltaBefore && !(i == 0 && emitterHitOff);
-        if (lightOn[slot]) lightV[slot] = own ? Sums<Real>::variant(light[i]) : variants(t + s - i, nullptr);
+        if (!lightOn[slot]) continue;
+        if (own)
+            for (int l = 0; l < L; ++l) lightV[slot][l] = Sums<Real>::variant(sums.at(light, false, i, l));
+        else
+            variants(t + s - i, lightV[slot], nullptr);
     }
     // The own strategy's density in channel c relative to the hero channel's (path_vertex.h).
     const Channels own = s >= 1 ? camera[t - 1].channelRatio * light[s - 1].channelRatio : camera[t - 1].channelRatio;
@@ -262,54 +328,61 @@ double misWeightIn(const Scene& scene, const PathVertex* light, const PathVertex
                                ? lightConnectionPickRatio(scene, camera[t - 2].p, camera[t - 1].p, camera[t - 1].isMedium(),
                                                           light[0].light)
                                : 1.0;
-    const Real ownCount = misPower(h, Real((s >= 2 && t >= 2 ? st.generalConnection : t == 1 ? st.cameraConnection : 1.0) * ownPick));
-    const bool ownEaAllowed = t == 1 ? st.equiAngularCamera : s == 1 ? st.equiAngularLight : st.generalEquiAngular;
     // The light prefix P(s − 3), summed afresh where the camera walk passes through media at
     // the indices of its vertices (passedLightPrefix).
-    const bool passedPrefix = s >= 3 && (k >= st.passFrom || k == st.passFirstAt || k == st.passFirstAt + 1);
-    const RC passedQ = passedPrefix ? passedLightPrefix<Real, N>(scene, light, s - 3, k, emitterHitOff, st) : RC(Real(0));
-    Real total = 0;
-    for (int c = 0; c < N; ++c) {
-        // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
-        // free-flight one may underflow far from where free flight goes), so all ratios are
-        // then relative to the equi-angular variant: its own term is 1 and the free-flight
-        // one 1/ρ.
-        Real sum = ownV[c];
-        if (ownEquiAngular) {
-            bool ffOn = !(equiAngularReplacesFreeFlight(st) && ownEaAllowed) && t - 1 != st.passFirstAt;
-            sum = ownCount * (Real(ownEaAllowed ? 1 : 0) + (ffOn && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(0)));
+    const bool passedPrefix = s >= 3 && (k >= s0.passFrom || k == s0.passFirstAt || k == s0.passFirstAt + 1);
+    RC passedQ[L];
+    if (passedPrefix) passedLightPrefix<Real, N, L>(scene, light, s - 3, k, emitterHitOff, st, cameraCount, sums, passedQ);
+    for (int l = 0; l < L; ++l) {
+        const MisHeuristic h = st[l].heuristic;
+        const Real ownCount =
+            misPower(h, Real((s >= 2 && t >= 2 ? st[l].generalConnection : t == 1 ? cameraCount[l] : 1.0) * ownPick));
+        const bool ownEaAllowed = t == 1 ? st[l].equiAngularCamera : s == 1 ? st[l].equiAngularLight : st[l].generalEquiAngular;
+        Real total = 0;
+        for (int c = 0; c < N; ++c) {
+            // The equi-angular sample's z(t−1) carries its equi-angular density as pdfFwd (the
+            // free-flight one may underflow far from where free flight goes), so all ratios are
+            // then relative to the equi-angular variant: its own term is 1 and the free-flight
+            // one 1/ρ.
+            Real sum = ownV[l][c];
+            if (ownEquiAngular) {
+                bool ffOn = !(equiAngularReplacesFreeFlight(st[l]) && ownEaAllowed) && t - 1 != s0.passFirstAt;
+                sum = ownCount * (Real(ownEaAllowed ? 1 : 0) +
+                                  (ffOn && rhoOwn[l][c] > 0 ? misPower(h, Real(1) / rhoOwn[l][c]) : Real(0)));
+            }
+            // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
+            // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
+            // subpath's V treats no camera vertex as the light), or (for i = 1, t = 2) the light
+            // side.
+            Real p = t - 3 >= 1 ? Sums<Real>::prefix(sums.at(camera, true, t - 3, l), c) : Real(0);
+            for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
+                int slot = i - (t - 2);
+                p = ratioPow<Real>(h, camera[i], c) * ((camOn[slot] ? camV[slot][l][c] : Real(0)) + p);
+            }
+            sum += p;
+            // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on
+            // the camera side, made by free flight: relative to an equi-angular light connection
+            // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
+            // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
+            // y(s−1) is an equi-angular camera connection's.
+            Real q = s - 3 >= 0 ? (passedPrefix ? passedQ[l][c] : Sums<Real>::prefix(sums.at(light, false, s - 3, l), c))
+                                : Real(0);
+            for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
+                int slot = i - (s - 2);
+                q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][l][c] : Real(0)) + q);
+            }
+            Real cf = ownEquiAngular && t >= 2 && rhoOwn[l][c] > 0 ? misPower(h, Real(1) / rhoOwn[l][c]) : Real(1);
+            // (Light tracing alone: t = 1, and q holds every other strategy.)
+            if (!lightTracingAlone) sum += cf * q;
+            // Over channels: the other channels' densities of every strategy relative to the
+            // hero's of this one (docs/mis.md, "coloured media").
+            total += misPower(h, Real(own[c])) * sum;
         }
-        // Camera side: P(t−1) from P(t−3). V_i is the subpath's own unless it reads z(t−1)
-        // moved by an equi-angular sample, or z(t−1) ends the path on an emitter (s = 0: the
-        // subpath's V treats no camera vertex as the light), or (for i = 1, t = 2) the light
-        // side.
-        Real p = t - 3 >= 1 ? Sums<Real>::prefix(camera[t - 3], c) : Real(0);
-        for (int i = std::max(1, t - 2); i <= t - 1; ++i) {
-            int slot = i - (t - 2);
-            p = ratioPow<Real>(h, camera[i], c) * ((camOn[slot] ? camV[slot][c] : Real(0)) + p);
-        }
-        sum += p;
-        // Light side: P(s−1) from P(s−3). Strategies with more camera vertices keep z(t−1) on
-        // the camera side, made by free flight: relative to an equi-angular light connection
-        // that is a factor 1/ρ_own. (For t = 1 the equi-angular vertex is y(s−1), which every
-        // other strategy moves to the camera side.) V for y(s−2) is the subpath's own unless
-        // y(s−1) is an equi-angular camera connection's.
-        Real q = s - 3 >= 0 ? (passedPrefix ? passedQ[c] : Sums<Real>::prefix(light[s - 3], c)) : Real(0);
-        for (int i = std::max(0, s - 2); i <= s - 1; ++i) {
-            int slot = i - (s - 2);
-            q = ratioPow<Real>(h, light[i], c) * ((lightOn[slot] ? lightV[slot][c] : Real(0)) + q);
-        }
-        Real cf = ownEquiAngular && t >= 2 && rhoOwn[c] > 0 ? misPower(h, Real(1) / rhoOwn[c]) : Real(1);
-        // (Light tracing alone: t = 1, and q holds every other strategy.)
-        if (!lightTracingAlone) sum += cf * q;
-        // Over channels: the other channels' densities of every strategy relative to the
-        // hero's of this one (docs/mis.md, "coloured media").
-        total += misPower(h, Real(own[c])) * sum;
+        // One channel of st.channels was drawn: the estimate is divided by its probability.
+        // (The weight over the own count alone: a light connection's λ stays in it.)
+        perCount[l] = total > 0 ? double(N * misPower(h, Real(ownPick)) / total) : double(kInfinity);
+        weight[l] = total > 0 ? double(N * ownCount / total) : 0.0;
     }
-    // One channel of st.channels was drawn: the estimate is divided by its probability.
-    // (The weight over the own count alone: a light connection's λ stays in it.)
-    if (perCount) *perCount = total > 0 ? double(N * misPower(h, Real(ownPick)) / total) : double(kInfinity);
-    return total > 0 ? double(N * ownCount / total) : 0.0;
 }
 
 }  // namespace
@@ -321,10 +394,47 @@ void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, M
 
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t, MisSettings st,
                  bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity, double* perCount) {
-    return st.channels == 1 ? misWeightIn<double, 1>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
-                                                     ownEquiAngularDensity, perCount)
-                            : misWeightIn<long double, 3>(scene, light, camera, s, t, st, ownEquiAngular, connectionCrossed,
-                                                          ownEquiAngularDensity, perCount);
+    double w = 0, pc = 0;
+    if (st.channels == 1)
+        misWeightIn<double, 1, 1>(scene, light, camera, s, t, &st, ownEquiAngular, connectionCrossed, ownEquiAngularDensity,
+                                  VertexSums{}, &w, &pc);
+    else
+        misWeightIn<long double, 3, 1>(scene, light, camera, s, t, &st, ownEquiAngular, connectionCrossed,
+                                       ownEquiAngularDensity, VertexSums{}, &w, &pc);
+    if (perCount) *perCount = pc;
+    return w;
+}
+
+void copyMisSums(const PathVertex* path, int n, MisSums* out) {
+    for (int i = 0; i < n; ++i) {
+        out[i].misPrefixGrey = path[i].misPrefixGrey;
+        out[i].misVariantGrey = path[i].misVariantGrey;
+        out[i].misPrefix = path[i].misPrefix;
+        out[i].misVariant = path[i].misVariant;
+    }
+}
+
+void misPerCountLanes(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
+                      const MisSettings* settings, int lanes, bool ownEquiAngular, bool connectionCrossed,
+                      double ownEquiAngularDensity, const MisSums* cameraSums, int cameraStride, const MisSums* lightSums,
+                      int lightStride, double* perCount) {
+    const LaneSums sums{cameraSums, cameraStride, lightSums, lightStride};
+    double w[kMaxMisLanes];
+    const bool grey = settings[0].channels == 1;
+    if (lanes == 7 && grey)
+        misWeightIn<double, 1, 7>(scene, light, camera, s, t, settings, ownEquiAngular, connectionCrossed,
+                                  ownEquiAngularDensity, sums, w, perCount);
+    else if (lanes == 7)
+        misWeightIn<long double, 3, 7>(scene, light, camera, s, t, settings, ownEquiAngular, connectionCrossed,
+                                       ownEquiAngularDensity, sums, w, perCount);
+    else if (lanes == 14 && grey)
+        misWeightIn<double, 1, 14>(scene, light, camera, s, t, settings, ownEquiAngular, connectionCrossed,
+                                   ownEquiAngularDensity, sums, w, perCount);
+    else if (lanes == 14)
+        misWeightIn<long double, 3, 14>(scene, light, camera, s, t, settings, ownEquiAngular, connectionCrossed,
+                                        ownEquiAngularDensity, sums, w, perCount);
+    else
+        throw std::logic_error("misPerCountLanes: 7 or 14 lanes");
 }
 
 // The reverse densities a connection determines, with w the unit direction z(t−1) → y(s−1)

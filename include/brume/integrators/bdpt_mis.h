@@ -75,6 +75,14 @@ inline bool cameraWalkPasses(const MisSettings& st, int j, bool prevDelta) {
 // y(s−3), which no connection alters, and the V that do not involve the connection.
 void misPrefixes(const Scene& scene, PathVertex* path, int n, bool cameraSide, MisSettings settings);
 
+// The MIS sums misPrefixes keeps in a vertex, copied out of it (misPerCountLanes).
+struct MisSums {
+    double misPrefixGrey = 0, misVariantGrey = 1;
+    Channels misPrefix{0.0};
+    Channels misVariant{0.0};
+};
+void copyMisSums(const PathVertex* path, int n, MisSums* out);
+
 // What a strategy's weight needs of the connection it made between y(s−1) and z(t−1).
 struct StrategyJoin {
     Channels freeFlightToCamera;    // a walk y(s−1) → z(t−1) stopping at z(t−1) (Connection::freeFlightToA)
@@ -111,5 +119,18 @@ void connectionNeighbours(PathVertex* light, int s, PathVertex* camera, int t, P
 double misWeight(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
                  MisSettings settings, bool ownEquiAngular, bool connectionCrossed, double ownEquiAngularDensity = 0,
                  double* perCount = nullptr);
+
+// misWeight's perCount for one joined path under `lanes` (7 or 14) settings at once, the same
+// bits as one misWeight per setting, for the planner's statistics (allocation_statistics.cpp):
+// what the settings share (the geometry, ρ, the light's pick, the densities) is found once. The
+// settings may differ in heuristic, generalConnection, cameraConnection and the
+// equi-angular switches (equiAngularLight, equiAngularCamera, equiAngularOnly), in nothing
+// else. The subpaths' sums under lane ℓ's settings (misPrefixes, then copyMisSums) are at
+// cameraSums[ℓ · cameraStride + i] and lightSums[ℓ · lightStride + i].
+constexpr int kMaxMisLanes = 14;
+void misPerCountLanes(const Scene& scene, const PathVertex* light, const PathVertex* camera, int s, int t,
+                      const MisSettings* settings, int lanes, bool ownEquiAngular, bool connectionCrossed,
+                      double ownEquiAngularDensity, const MisSums* cameraSums, int cameraStride, const MisSums* lightSums,
+                      int lightStride, double* perCount);
 
 }  // namespace brume

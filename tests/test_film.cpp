@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -251,6 +253,57 @@ TEST_CASE("renderer: a time budget renders whole passes, at least one", "[render
     o.timeBudget = 1e-9;
     Film film2(16, 16);
     CHECK(render(emptyScene(), integrator, o, film2).passes == 1);
+}
+
+// Passes of a steady pace (4 ms each, in endPass), with `leftOut` passes the image leaves out
+// always (as auto's pilot and duel).
+struct PacedIntegrator : Integrator {
+    int leftOutPasses = 0;
+    std::vector<FixedSum> sums = std::vector<FixedSum>(size_t(16 * 16 * 3));
+    Spectrum sample(const Scene&, float, float, int, int, Sampler& sampler, PathStats&) const override {
+        return Spectrum(sampler.next1D());
+    }
+    void endPass(const Scene&, const PassSummary&) override { std::this_thread::sleep_for(std::chrono::milliseconds(4)); }
+    LeftOutPasses leftOut() const override {
+        LeftOutPasses out;
+        out.passes = leftOutPasses;
+        out.sums = leftOutPasses > 0 ? &sums : nullptr;
+        out.always = true;
+        return out;
+    }
+};
+
+TEST_CASE("renderer: the block of Sobol passes a time budget ends on", "[renderer]") {
+    // 2^(⌊log2 n⌋ − 2): the image's passes end with their binary digits below the top three 0.
+    const int n[] = {1, 3, 4, 7, 8, 15, 16, 255, 256, 319, 320, 511, 512, 1000};
+    const int block[] = {1, 1, 1, 1, 2, 2, 4, 32, 64, 64, 64, 64, 128, 128};
+    for (size_t i = 0; i < sizeof n / sizeof n[0]; ++i) {
+        INFO(n[i]);
+        CHECK(sobolBlock(n[i]) == block[i]);
+    }
+}
+
+TEST_CASE("renderer: with sobolBlocks a time budget ends on a block of the image's passes", "[renderer]") {
+    for (int left : {0, 3}) {
+        PacedIntegrator integrator;
+        integrator.leftOutPasses = left;
+        RenderOptions o = options(16, 16, 1, 2);
+        o.timeBudget = 0.6;  // about 150 passes: blocks of 32
+        o.sobolBlocks = true;
+        Film film(16, 16);
+        RenderStats stats = render(emptyScene(), integrator, o, film);
+        const int kept = imagePasses(film, integrator, o.sampler);
+        INFO(left << " left out: " << stats.passes << " passes, " << kept << " in the image, " << stats.seconds << " s");
+        CHECK(kept == stats.passes - left);
+        // On a block, before the budget: the next block (32 passes, 0.13 s) would not fit.
+        CHECK(kept % sobolBlock(kept) == 0);
+        CHECK(stats.seconds < o.timeBudget);
+        CHECK(kept >= 64);  // not stopped blocks too soon: a 4-ms pass, 0.6 s
+        // Without it the budget is spent.
+        o.sobolBlocks = false;
+        Film whole(16, 16);
+        CHECK(render(emptyScene(), integrator, o, whole).seconds >= o.timeBudget);
+    }
 }
 
 TEST_CASE("renderer: cancellation stops after the current pass", "[renderer]") {

@@ -740,6 +740,7 @@ int runBench(const std::vector<std::string>& argv) {
             options.width = res.width;
             options.height = res.height;
             options.timeBudget = budget;
+            options.sobolBlocks = a.maxDepth >= 0 && a.maxDepth <= 1;  // (as render's)
             options.seed = a.seed;
             options.sampler = choice.sampler;
             options.threads = a.threads;

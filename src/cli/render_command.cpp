@@ -212,7 +212,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
         a.spp = int(parseInteger("--spp", v, 1, 1 << 24));
         a.sppGiven = true;
     });
-    addOption(app, "--time", "SECONDS", "render whole passes until SECONDS are spent instead of --spp",
+    addOption(app, "--time", "SECONDS",
+              "render whole passes until SECONDS are spent instead of --spp (in single scattering it may end a block of "
+              "passes sooner, on a pass count whose binary digits below the top three are 0: README)",
               [&](const std::string& v) { a.seconds = parsePositiveSeconds("--time", v, 1e7); });
     addOption(app, "--max-depth", "N", "most scattering events per path (default -1: unlimited)",
               [&](const std::string& v) {
@@ -774,6 +776,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     options.height = res.height;
     options.spp = a.spp;
     options.timeBudget = a.seconds;
+    // In single scattering a time budget ends on a block of Sobol passes (renderer.h).
+    options.sobolBlocks = a.maxDepth >= 0 && a.maxDepth <= 1;
     options.seed = a.seed;
     options.sampler = a.sampler;
     options.threads = a.threads;

@@ -361,8 +361,16 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
         const Integrator::LeftOutPasses out = integrator.leftOut();
         return options.firstPass >= 0 || !out.partialSums || film.passes() > out.partialPasses;
     };
+    // A time budget ends at the budget, or sooner on a block of Sobol passes
+    // (RenderOptions::sobolBlocks): at a count of the image's passes that ends a block, where
+    // the next block's passes at this call's pace so far would not fit in the budget.
     auto enough = [&] {
-        return options.timeBudget > 0 ? secondsSince(start) >= options.timeBudget && whole() : stats.passes >= options.spp;
+        if (options.timeBudget <= 0) return stats.passes >= options.spp;
+        const double t = secondsSince(start);
+        if (t >= options.timeBudget) return whole();
+        if (!options.sobolBlocks || options.sampler != SamplerKind::Sobol || adaptive || !whole()) return false;
+        const int n = imagePasses(film, integrator, options.sampler), block = sobolBlock(n);
+        return n > 0 && n % block == 0 && t + t / stats.passes * block > options.timeBudget;
     };
     // Adaptive stopping: the pixels taking part in the next pass, decided from the film alone
     // (and the integrator's learning, itself restored with a checkpoint).
@@ -430,17 +438,36 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     return render(scene, integrator, options, film, control);
 }
 
+namespace {
+// Whether the image leaves out the passes `out` names, beside n others (finalImage).
+bool leavesOut(const Integrator::LeftOutPasses& out, int n, SamplerKind sampler) {
+    if (out.always) return true;
+    const bool noisier = out.noise > 2.0 + double(out.passes) / n;
+    const bool outnumbered = sampler == SamplerKind::Sobol && n >= kLeftOutRatio * out.passes;
+    return noisier || outnumbered;
+}
+}  // namespace
+
+int imagePasses(const Film& film, const Integrator& integrator, SamplerKind sampler) {
+    const Integrator::LeftOutPasses out = integrator.leftOut();
+    const int partial = out.partialSums ? out.partialPasses : 0;
+    const int others = film.passes() - out.passes - partial;
+    const bool group = out.passes > 0 && out.sums && others > 0;
+    return film.passes() - partial - (group && leavesOut(out, others, sampler) ? out.passes : 0);
+}
+
+int sobolBlock(int n) {
+    int top = 0;
+    while (top < 30 && (2 << top) <= n) ++top;  // 2^top ≤ n < 2^(top + 1)
+    return top >= 2 ? 1 << (top - 2) : 1;
+}
+
 std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler) {
     const Integrator::LeftOutPasses out = integrator.leftOut();
     const int partial = out.partialSums ? out.partialPasses : 0;
     const int others = film.passes() - out.passes - partial;
     // Per pixel, with the passes it keeps without them (fewer where adaptive sampling stopped it).
-    auto leaveOut = [&](int n) {
-        if (out.always) return true;
-        const bool noisier = out.noise > 2.0 + double(out.passes) / n;
-        const bool outnumbered = sampler == SamplerKind::Sobol && n >= kLeftOutRatio * out.passes;
-        return noisier || outnumbered;
-    };
+    auto leaveOut = [&](int n) { return leavesOut(out, n, sampler); };
     const bool group = out.passes > 0 && out.sums && others > 0;
     if (partial > 0) {  // always out, with the others where they are
         if (film.tracksNoise())

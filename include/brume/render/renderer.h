@@ -48,7 +48,19 @@ struct RenderOptions {
     // film positions drawn in proportion to 1/(distance to the image) (scene/light_pixels.h);
     // false: uniform there too (tests that compare the two).
     bool lightPixels = true;
+    // With a time budget, end where the image's passes are a count whose binary digits below
+    // its top three are 0 (…, 256, 320, 384, 448, 512, …; imagePasses), at the last such count
+    // before the budget at the pace so far, or at the budget. With Owen-scrambled Sobol numbers
+    // and a nearly exact estimator (single scattering) the first n points of each pixel's
+    // sequence are best stratified at those counts: between them the error of a 4-s render was
+    // up to 3.7× that at the count before (docs/results.md, "A time budget ends on a block of
+    // Sobol passes"). Set by the command line in single scattering with Sobol numbers.
+    bool sobolBlocks = false;
 };
+
+// The smallest block of Sobol passes the image of n passes ends on (RenderOptions::sobolBlocks):
+// 2^(⌊log2 n⌋ − 2), at least 1.
+int sobolBlock(int n);
 
 struct RenderStats {
     double seconds = 0;      // wall-clock time of the passes
@@ -117,5 +129,9 @@ inline RenderStats render(const Scene& scene, Integrator&& integrator, const Ren
 // count, rank count or resume.
 constexpr int kLeftOutRatio = 4;
 std::vector<float> finalImage(const Film& film, const Integrator& integrator, SamplerKind sampler);
+
+// How many passes finalImage averages (leaving out what it leaves out; per pixel under adaptive
+// sampling it may differ: there the film's count less the passes left out always).
+int imagePasses(const Film& film, const Integrator& integrator, SamplerKind sampler);
 
 }  // namespace brume

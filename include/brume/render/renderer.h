@@ -54,7 +54,8 @@ struct RenderOptions {
     // and a nearly exact estimator (single scattering) the first n points of each pixel's
     // sequence are best stratified at those counts: between them the error of a 4-s render was
     // up to 3.7× that at the count before (docs/results.md, "A time budget ends on a block of
-    // Sobol passes"). Set by the command line in single scattering with Sobol numbers.
+    // Sobol passes"). Set by `brume render --time` and `brume bench` in single scattering
+    // (--max-depth 0 or 1); acts only with Sobol numbers, a time budget and no noise threshold.
     bool sobolBlocks = false;
 };
 

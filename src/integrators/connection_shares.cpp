@@ -12,10 +12,10 @@ namespace brume {
 namespace {
 
 // A record's weight under shares q: the power heuristic the path tracer weighs with, over the
-// strategies' densities with A's and C's times their shares.
+// strategies' densities with A's, C's and D's times their shares.
 double weightUnder(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
     q = ConnectionShares::madeWith(q, r.p);
-    const StrategyDensities p{r.p.a * q.vertex, r.p.b, r.p.c * q.segment, r.p.d};
+    const StrategyDensities p{r.p.a * q.vertex, r.p.b, r.p.c * q.segment, r.p.d * q.solidAngle};
     switch (r.technique) {
         case ConnectionShares::Technique::Vertex: return powerWeight(p.a, p);
         case ConnectionShares::Technique::Emitter: return powerWeight(p.b, p);
@@ -30,6 +30,7 @@ double shareOf(const ConnectionShares::Record& r, ConnectionShares::Shares q) {
     switch (r.technique) {
         case ConnectionShares::Technique::Vertex: return q.vertex;
         case ConnectionShares::Technique::Segment: return q.segment;
+        case ConnectionShares::Technique::SolidAngle: return q.solidAngle;
         default: return 1.0;
     }
 }
@@ -45,7 +46,7 @@ void ConnectionShares::ensure(int width, int height) {
     width_ = width;
     height_ = height;
     const size_t n = size_t(width) * size_t(height);
-    moments_.assign(n * kCandidates, 0.0);
+    moments_.assign(n * kCandidates, 0.0f);
     sum_.assign(n, 0.0);
     vertexCalls_.assign(n, 0);
     passingCalls_.assign(n, 0);
@@ -59,7 +60,7 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
     // The rest of the sample: L without the records' estimates as weighted now (q = 1).
     double rest = L;
     for (int i = 0; i < n; ++i) rest -= records[i].value * weightUnder(records[i], Shares{});
-    double* m = &moments_[size_t(pixel) * kCandidates];
+    float* m = &moments_[size_t(pixel) * kCandidates];
     for (int j = 0; j < kCandidates; ++j) {
         const Shares q = candidate(j);
         double s = rest, bernoulli = 0;
@@ -70,7 +71,7 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
             if (share < 1 && share > 0) bernoulli += v * v * (1.0 / share - 1.0);  // (share 0: v = 0)
         }
         const double moment = s * s + bernoulli;
-        if (std::isfinite(moment)) m[j] += moment;
+        if (std::isfinite(moment)) m[j] += float(moment);
     }
     vertexCalls_[pixel] += mediumVertexCalls;
     passingCalls_[pixel] += passingSegmentCalls;
@@ -95,21 +96,25 @@ void ConnectionShares::decide(const PassSummary& summary) {
     for (size_t p = 0; p < n; ++p) {
         const double mean = sum_[p] / passes_;
         const double w = 1.0 / (mean * mean + 0.01);
-        for (int j = 0; j < kCandidates; ++j) variance[j] += w * (moments_[p * kCandidates + size_t(j)] / passes_ - mean * mean);
+        for (int j = 0; j < kCandidates; ++j)
+            variance[j] += w * (double(moments_[p * kCandidates + size_t(j)]) / passes_ - mean * mean);
         vertexCalls += vertexCalls_[p];
         passingCalls += passingCalls_[p];
     }
     // Cost of the learning passes' samples, less the connections a candidate would skip (on
     // segments only those that trace: the others return at once, path_stats.h; with qC = 0
-    // not those where the walk passes through, which C alone makes: madeWith).
+    // not those where the walk passes through, which C alone makes: madeWith; D's rays, which
+    // qD = 0 skips all of: D is never made where the walk passes through).
     const double base = pathTracerCost(counts_.pt);
     const double segmentCalls = double(counts_.pt.segmentTracingCalls);
+    const double solidAngleRays = double(counts_.pt.solidAngleRays);
     int best = 0;
     for (int j = 0; j < kCandidates; ++j) {
         const Shares q = candidate(j);
         variance_[j] = variance[j];
         cost_[j] = base - pt_cost::kVertexCall * (1.0 - q.vertex) * double(vertexCalls) -
-                   pt_cost::kSegmentCall * (q.segment > 0 ? (1.0 - q.segment) * segmentCalls : segmentCalls - double(passingCalls));
+                   pt_cost::kSegmentCall * (q.segment > 0 ? (1.0 - q.segment) * segmentCalls : segmentCalls - double(passingCalls)) -
+                   pt_cost::kSolidAngleRay * (1.0 - q.solidAngle) * solidAngleRays;
         if (variance_[j] > 0 && cost_[j] > 0 && variance_[j] * cost_[j] < variance_[best] * cost_[best]) best = j;
     }
     shares_ = candidate(best);
@@ -125,22 +130,37 @@ std::string ConnectionShares::report() const {
     if (!decided_) return "connection shares: learning\n";
     char buf[160];
     std::string out;
-    std::snprintf(buf, sizeof buf, "connection shares: at medium vertices %.2f, on segments %.2f (learned from %d passes)\n",
-                  double(shares_.vertex), double(shares_.segment), passes_);
+    // D's column and rows only where D was made (emissive triangles by solid angle, close by).
+    const bool solidAngle = counts_.pt.solidAngleCalls > 0;
+    std::snprintf(buf, sizeof buf, "connection shares: at medium vertices %.2f, on segments %.2f", double(shares_.vertex),
+                  double(shares_.segment));
     out += buf;
-    out += "  shares (vertex, segment)   variance       cost   efficiency   (relative to 1, 1)\n";
-    for (int j = 0; j < kCandidates; ++j) {
+    if (solidAngle) {
+        std::snprintf(buf, sizeof buf, ", by solid angle %.0f", double(shares_.solidAngle));
+        out += buf;
+    }
+    std::snprintf(buf, sizeof buf, " (learned from %d passes)\n", passes_);
+    out += buf;
+    out += solidAngle ? "  shares (vertex, segment, solid angle)   variance       cost   efficiency   (relative to 1, 1, 1)\n"
+                      : "  shares (vertex, segment)   variance       cost   efficiency   (relative to 1, 1)\n";
+    for (int j = 0; j < (solidAngle ? kCandidates : kCandidates / 2); ++j) {
         const Shares q = candidate(j);
         const double e = variance_[j] > 0 && cost_[j] > 0 ? (variance_[0] * cost_[0]) / (variance_[j] * cost_[j]) : 0.0;
-        std::snprintf(buf, sizeof buf, "  %4.2f, %4.2f             %9.3g  %9.3g  %11.3g\n", double(q.vertex), double(q.segment),
-                      variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0, cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e);
+        if (solidAngle)
+            std::snprintf(buf, sizeof buf, "  %4.2f, %4.2f, %.0f                        ", double(q.vertex), double(q.segment),
+                          double(q.solidAngle));
+        else
+            std::snprintf(buf, sizeof buf, "  %4.2f, %4.2f             ", double(q.vertex), double(q.segment));
+        out += buf;
+        std::snprintf(buf, sizeof buf, "%9.3g  %9.3g  %11.3g\n", variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0,
+                      cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e);
         out += buf;
     }
     return out;
 }
 
 std::string ConnectionShares::saveState() const {
-    std::string out = "CSH3";
+    std::string out = "CSH4";
     auto put = [&](const void* p, size_t bytes) { out.append(static_cast<const char*>(p), bytes); };
     const uint8_t decided = decided_ ? 1 : 0;
     put(&decided, 1);
@@ -161,7 +181,7 @@ std::string ConnectionShares::saveState() const {
 }
 
 void ConnectionShares::loadState(const std::string& state) {
-    if (state.compare(0, 4, "CSH3") != 0) throw std::runtime_error("connection shares state is malformed");
+    if (state.compare(0, 4, "CSH4") != 0) throw std::runtime_error("connection shares state is malformed");
     StateReader r{state, 4};
     decided_ = r.get<uint8_t>() != 0;
     shares_ = r.get<Shares>();
@@ -169,7 +189,7 @@ void ConnectionShares::loadState(const std::string& state) {
     width_ = r.get<int>();
     height_ = r.get<int>();
     const size_t pixels = size_t(std::max(width_, 0)) * size_t(std::max(height_, 0));
-    moments_ = r.getVector<double>(pixels * kCandidates);
+    moments_ = r.getVector<float>(pixels * kCandidates);
     sum_ = r.getVector<double>(pixels);
     vertexCalls_ = r.getVector<uint32_t>(pixels);
     passingCalls_ = r.getVector<uint32_t>(pixels);

@@ -160,18 +160,25 @@ StrategyDensities densitiesOf(const Scene& scene, const MediumOrigin& o, const M
         if (pArea > 0 && equiAngularTowards(yl, anchor, o.seg, connectAnisotropy(mode, o.seg.medium->g), &ea))
             p.c = double(pick) * pArea * equiAngularPdf(ea, o.t);
     }
-    if (path.d >= 0) {
-        p.d = path.d;
-    } else if (usesSolidAngle(scene, mode, light, o.seg)) {
-        if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
-            p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
-    }
+    // D's density needs its table: not built where D is not made (qD = 0 and another strategy
+    // makes the path; madeWith reads D's density only times qD).
+    auto solidAngleDensity = [&] {
+        if (path.d >= 0) {
+            p.d = path.d;
+        } else if (usesSolidAngle(scene, mode, light, o.seg)) {
+            if (const SolidAngleDistance* sd = tables.get(scene, int(&light - scene.lights().data()), o.seg))
+                p.d = double(path.pick) * solidAngleDistancePdf(*sd, o.t) * path.pL;
+        }
+    };
+    if (q.solidAngle > 0) solidAngleDensity();
     if (noVertex) p.a = 0;
-    // A and C made with probabilities qA and qC (connection_shares.h): densities q·p; a share
-    // of 0 only where another strategy makes the path.
+    // A, C and D made with probabilities qA, qC and qD (connection_shares.h): densities q·p; a
+    // share of 0 only where another strategy makes the path.
     const ConnectionShares::Shares e = ConnectionShares::madeWith(q, p);
+    if (!(q.solidAngle > 0) && e.solidAngle > 0) solidAngleDensity();
     p.a *= double(e.vertex);
     p.c *= double(e.segment);
+    p.d *= double(e.solidAngle);
     if (made) *made = e;
     return p;
 }
@@ -548,7 +555,10 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
                 }
                 if (passing && stats.counts.pt.segmentTracingCalls != tracing) ++passingSegmentCalls;
             }
-            if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights()) {
+            // D, made unless its share is 0 (with triangle lights the walk never passes through:
+            // passLast; so A and B make its paths then: ConnectionShares::madeWith).
+            if (nee && mode == ConnectMode::Mis && depth + 1 <= maxDepth && scene.hasTriangleLights() &&
+                (notes.q.solidAngle > 0 || passing)) {
                 const PartMeter meter(stats, stats.counts.pt.solidAngleRays, stats.counts.pt.solidAngleCalls);
                 L += counted(PathTracerTechnique::BySolidAngle,
                              beta * solidAngleDirect(scene, seg, walk.media(), mode, channels, sampler,

@@ -47,23 +47,48 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
     if (!(s.thetaB > s.thetaA)) return false;
     // The table in float: it only has to be a deterministic function of the segment (the
     // density is whatever it tabulates), and float halves its cost.
-    const float step = float(s.thetaB - s.thetaA) / SolidAngleDistance::kBins;
-    const float D = float(s.D), thetaA = float(s.thetaA);
+    const float D = float(s.D);
     const Vec3 base = seg.o + seg.d * float(s.delta);
     const Vec3 n = tri[0]->edgeCross();
-    // An unbounded segment's last node just short of π/2 (tan = 1000), where q has its finite limit.
+    // The emitter's corners, each once (a rectangle's halves share their diagonal), and its
+    // triangles as corner indices: per node 4 distances for a rectangle, not 6.
+    Vec3 corner[6];
+    int index[2][3], corners = 0;
+    for (int h = 0; h < halves; ++h)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& v = k == 0 ? tri[h]->p0 : k == 1 ? tri[h]->p1 : tri[h]->p2;
+            int c = 0;
+            while (c < corners && !(corner[c].x == v.x && corner[c].y == v.y && corner[c].z == v.z)) ++c;
+            if (c == corners) corner[corners++] = v;
+            index[h][k] = c;
+        }
+    // The nodes' offsets t − Δ = D·tan θ_i at θ_i = θa + i·Δθ, by rotating (cos θ, sin θ) by Δθ
+    // (in double: 16 rotations lose nothing a float table keeps); an unbounded segment's last
+    // node just short of π/2 (tan = 1000), where q has its finite limit.
     constexpr int N = SolidAngleDistance::kBins;
+    constexpr double kLastTheta = 0.5 * M_PI - 1e-3;
+    const double step = (s.thetaB - s.thetaA) / N, cosStep = std::cos(step), sinStep = std::sin(step);
+    double cosT = std::cos(s.thetaA), sinT = std::sin(s.thetaA);
     double q[N + 1], sum = 0;
     for (int i = 0; i <= N; ++i) {
-        const float theta = std::min(thetaA + float(i) * step, 1.5697963f);  // π/2 − 10⁻³
-        const float u = D * std::tan(theta);  // t − Δ
+        const float u = s.thetaA + i * step > kLastTheta ? float(s.D * std::tan(kLastTheta)) : float(s.D * sinT / cosT);
+        const double c = cosT * cosStep - sinT * sinStep;
+        sinT = sinT * cosStep + cosT * sinStep;
+        cosT = c;
         const Vec3 x = base + seg.d * u;
         // Van Oosterom–Strackee (spherical_triangle.h) in float, with a polynomial atan; the
         // front side only for a one-sided emitter (n·(x − p0) > 0).
+        Vec3 r[6];
+        float l[6];
+        for (int k = 0; k < corners; ++k) {
+            r[k] = corner[k] - x;
+            l[k] = length(r[k]);
+        }
         float omega = 0;
         for (int h = 0; h < halves; ++h) {
-            const Vec3 r0 = tri[h]->p0 - x, r1 = tri[h]->p1 - x, r2 = tri[h]->p2 - x;
-            const float l0 = length(r0), l1 = length(r1), l2 = length(r2);
+            const int i0 = index[h][0], i1 = index[h][1], i2 = index[h][2];
+            const Vec3 &r0 = r[i0], &r1 = r[i1], &r2 = r[i2];
+            const float l0 = l[i0], l1 = l[i1], l2 = l[i2];
             const float triple = std::abs(dot(r0, cross(r1, r2)));
             const float den = l0 * l1 * l2 + dot(r0, r1) * l2 + dot(r0, r2) * l1 + dot(r1, r2) * l0;
             omega += 2.0f * atan2NonNegative(triple, den);

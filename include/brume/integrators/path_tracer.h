@@ -49,7 +49,7 @@ struct PathTracerOptions {
     // Next-event estimation towards emissive media with emission grids (volume_light_sampling.h,
     // `--volume-lights`); off: their emission is gathered along the rays alone.
     bool volumeLights = true;
-    // --connect mis: how often A and C are made (connection_shares.h): learned from the first
+    // --connect mis: how often A, C and D are made (connection_shares.h): learned from the first
     // passes of a render (learnShares, the command's default), or these fixed shares (tests;
     // and any sample taken outside a render).
     bool learnShares = false;

@@ -23,7 +23,7 @@
 namespace brume {
 
 struct SolidAngleDistance {
-    static constexpr int kBins = 16;
+    static constexpr int kBins = 8;
     // Left uninitialised until solidAngleDistanceOn fills them (the path tracer keeps a few
     // per path, whether the scene has emissive triangles or not).
     double delta, D, thetaA, thetaB;

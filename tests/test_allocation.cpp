@@ -376,8 +376,8 @@ TEST_CASE("auto: the path tracer's cost is counted from its probe", "[auto][allo
     CHECK(estimated == Approx(counted).epsilon(0.10));
 }
 
-// The path tracer inside auto learns its connection shares from its last duel passes
-// (made with shares 1, 1 like its first ones): where it wins the duel, it renders with them
+// The path tracer inside auto learns its connection shares from its duel passes (all 8, made
+// with shares 1, 1, 1: an aligned block of its Sobol sequence): where it wins the duel, it renders with them
 // from the first pass after it; those passes alone teach it, not the pilot's probes nor
 // the bidirectional contender's passes.
 TEST_CASE("auto: the path tracer learns its connection shares in the duel", "[auto][allocation]") {
@@ -407,7 +407,8 @@ TEST_CASE("auto: the path tracer learns its connection shares in the duel", "[au
     render(*scene, whole, r, film2);
     CHECK(whole.planner()->decided());
     CHECK_FALSE(whole.connectionShares()->learning());
-    CHECK(whole.connectionShares()->report().find("learned from 4 passes") != std::string::npos);
+    CHECK(whole.connectionShares()->report().find("learned from " + std::to_string(ConnectionShares::kLearningPasses) + " passes") !=
+          std::string::npos);
 }
 
 // After a duel the image leaves out the left-out passes (the loser's; the pilot's too where

@@ -216,7 +216,7 @@ TEST_CASE("cli checkpoint: auto resumes to the same bytes across its choice", "[
 
 // Beside two area lights in fog auto probes the path tracer (its distances by the light's solid
 // angle, allocation_planner.h), chooses it after the duel, and the path tracer learns its
-// connection shares in its last four duel passes, 14–17 (connection_shares.h). Stopped in the
+// connection shares in its 8 duel passes, 10–17 (connection_shares.h). Stopped in the
 // pilot, inside and after that learning, it resumes to the same bytes. (Before the planner's state kept whether
 // it probes, such a checkpoint resumed to another choice and was refused as malformed.)
 TEST_CASE("cli checkpoint: auto resumes to the same bytes where it chooses the path tracer", "[cli][checkpoint][auto]") {

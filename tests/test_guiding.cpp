@@ -532,8 +532,9 @@ TEST_CASE("auto with --guiding auto: the chosen path tracer starts a guide where
     CHECK(shortGuided == renderFrom(settings(false, 60), 2, 60, 60, nullptr));
 }
 
-// --guiding auto in the path tracer: the guide from the first pass after the shares' 4 where
-// 64 passes or more follow; none with fewer, nor in single scattering (guide_start.h).
+// --guiding auto in the path tracer: the guide from the first pass after the shares' learning
+// passes (8) where 64 passes or more follow; none with fewer, nor in single scattering
+// (guide_start.h).
 TEST_CASE("pt with --guiding auto starts its guide after its shares where at least 64 passes follow", "[guiding]") {
     auto scene = loadTestScene("bdpt_window_fog.gltf");
     auto run = [&](int planned, int passes, int maxDepth = -1) {
@@ -553,9 +554,10 @@ TEST_CASE("pt with --guiding auto starts its guide after its shares where at lea
         render(*scene, *pt, o, film);
         return static_cast<const PathTracer&>(*pt).guide() != nullptr;
     };
-    CHECK(run(68, 20));
-    CHECK(!run(67, 20));
+    const int enough = GuideStart::kAutoPasses + ConnectionShares::kLearningPasses;
+    CHECK(run(enough, 20));
+    CHECK(!run(enough - 1, 20));
     CHECK(!run(0, 20));  // length not known
-    CHECK(run(68, 20, 2));
-    CHECK(!run(68, 20, 1));  // single scattering
+    CHECK(run(enough, 20, 2));
+    CHECK(!run(enough, 20, 1));  // single scattering
 }

@@ -836,7 +836,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // before its passes that learn light tracing's share.
         const int guidePasses = a.guiding ? PathGuide::kLastFitPass : 0;
         // And the path tracer the passes that learn its connection shares (connection_shares.h).
-        // (auto's and bdpt's path tracer learn theirs in its last 4 duel passes, or the 4 passes
+        // (auto's and bdpt's path tracer learn theirs in its 8 duel passes, or the 8 passes
         // after auto's pilot where there is no duel, or from pass 0 with `--allocation "path
         // tracer"`.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;

@@ -73,9 +73,11 @@ bool BdptIntegrator::sharesPassAt(int pass) const {
     if (!pathTracer_.sharesLearning()) return false;
     if (!planner_) return options_.allocation.pathTracer;
     if (planner_->decided()) return planner_->allocationFor(pass).pathTracer;
-    // The path tracer's last kLearningPasses duel passes (made with shares 1, 1 as its others
-    // are, so that the duel measures one estimator): where it wins, it renders with its
+    // The path tracer's duel passes (kLearningPasses of its kPasses, all of them: made with
+    // shares 1, 1, 1, so that the duel measures one estimator, and an aligned block of its
+    // Sobol sequence, as the learning's batches need): where it wins, it renders with its
     // shares from the first pass after the duel.
+    static_assert(ConnectionShares::kLearningPasses <= AllocationDuel::kPasses, "the shares learn inside the duel");
     return planner_->pathTracerDuelPass(pass, AllocationDuel::kPasses - ConnectionShares::kLearningPasses);
 }
 

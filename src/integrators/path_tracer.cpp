@@ -462,7 +462,9 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     thread_local std::vector<ConnectionShares::Record> shareRecords;
     shareRecords.clear();
     const bool learningShares = shares_ && shares_->learning() && !sharesPaused_ && mode == ConnectMode::Mis;
-    const ShareNotes notes{shares_ ? shares_->shares() : options_.shares, learningShares ? &shareRecords : nullptr};
+    // (Records only where the learning replays the samples: its lattice of pixels.)
+    const ShareNotes notes{shares_ ? shares_->shares() : options_.shares,
+                           learningShares && ConnectionShares::learnsAt(width, height, pixel) ? &shareRecords : nullptr};
     uint32_t mediumVertexCalls = 0;
     uint32_t passingSegmentCalls = 0;  // segment calls that traced where the walk passes through
     // Emission of the emitter at `hit`, reached along `ray` from the last vertex (strategy B),

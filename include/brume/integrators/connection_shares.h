@@ -13,19 +13,31 @@
 // sample count q (Veach 1997, 9.2.4): its density enters every weight as q·p and its
 // estimate is f·w/(q·p), so every path keeps weights that sum to one and no q > 0 biases.
 //
-// Learning. The first kLearningPasses passes render with qA = qC = 1 and keep, per pixel and
-// for each candidate (qA', qC'), the second moment its sample would have had: the sample's
-// light-connection records re-weighted (their densities with q'), the rest of the sample as
-// it was, and for a record of a connection made with probability q' the Bernoulli term
-// v²·(1/q' − 1) (its value v/q' with probability q', 0 otherwise, independently of the rest):
-//   M_j = (L_rest + Σ_r v'_r)² + Σ_{r: A or C} v'_r²·(1/q'_r − 1).
-// After them, V_j = Σ_p w_p·(M_j,p / n − m_p²), w_p = 1/(m_p² + 0.01) as bench weighs errors
-// (m_p: the pixel's mean over those passes), and the cost of a sample under j from the parts
-// the passes counted (sample_cost.h: the calls at medium vertices scaled by qA', on segments
-// by qC', less the ones a share of 0 still makes where the walk passes through); the
-// candidate of least V_j·cost_j renders the rest (D's cost: its rays, with the table and
-// light sample that come with them). Sums per pixel (in float: four passes of one pixel),
-// added in pixel order: the same choice for any thread count, and kept in checkpoints.
+// Learning, with the sampler the render uses. The first kLearningPasses (8) passes render with
+// qA = qC = qD = 1. Each sample's value under a candidate j = (qA', qC', qD') is replayed from
+// its light-connection records: re-weighted (their densities with q'), the rest of the sample
+// as it was. The replay makes the same numbers' pass under j (A's and B's numbers do not
+// depend on whether C or D is made), so the spread between aligned batches of passes measures
+// j's error with Owen-scrambled Sobol numbers, as auto's duel does (allocation_duel.h: for two
+// halves a, b of an aligned batch of 2n passes, E[(a − b)²]/2 = 2·V(n) − 2·V(2n), which follows
+// V's power law n^−α). Per pixel on a
+// lattice of at most kMaxLearningPixels, per candidate: E_j(2) from the two pairs of 2-pass
+// batches and E_j(4) from the pair of 4-pass batches, weighted w_p = 1/(m_p² + 0.01) as bench
+// weighs errors (m_p: the mean of the pixel's 8 passes without the largest) and summed in
+// pixel order (not a median of pixel groups: the heavy tail of a candidate that leaves a
+// technique out is what it must be charged for). The rate α = log2(E(2)/E(4)) of the all-made
+// estimator, kept in [1, 3], is taken for all (a rate per candidate from 8 passes differs by
+// its noise, which over 16× the passes outweighs the variances' differences); j's error at
+// equal time, with N ∝ 1/cost passes and V ∝ N^−α, is E_j(4)·(cost_j/cost_all)^α: with α > 1
+// cost counts for more than in variance × cost. The cost of a sample under j comes from the parts the passes counted
+// (sample_cost.h: the calls at medium vertices scaled by qA', on segments by qC', less the
+// ones a share of 0 still makes where the walk passes through; D's rays by qD', with the
+// table and light sample that come with them). The
+// candidate of least error renders the rest. Why not the second moments of independent
+// samples: they cannot see what Owen scrambling gives each candidate (beside a panel light,
+// leaving D out looked 11× worse per sample; measured at 256 passes it was 1.4× worse at half
+// the cost). Sums per pixel (in float: eight passes of one pixel), added in pixel order: the
+// same choice for any thread count, and kept in checkpoints.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -41,15 +53,20 @@ namespace brume {
 
 class ConnectionShares {
 public:
-    static constexpr int kLearningPasses = 4;
-    // qA, qC in {1, 1/2, 1/4, 0}, not both 0; qD in {1, 0} (D is its table or nothing).
-    static constexpr int kCandidates = 30;
+    static constexpr int kLearningPasses = 8;  // aligned: batches of 2 and 4 passes, in pairs
+    static constexpr int kMaxLearningPixels = 1 << 16;
+    // Each technique made always or never: (qA, qC) in {(1, 1), (1, 0), (0, 1)}, qD in {1, 0}.
+    // (Shares between 0 and 1 stay possible, PathTracerOptions::shares, but are not learned:
+    // making a connection by chance breaks its numbers' stratification, which 8 passes do not
+    // show. Chosen by the learning, C ¼ with A 0 had 1.07× the all-made variance at 4 passes
+    // in the glass beam's single scattering and 13× the error of pt:density at 384 passes.)
+    static constexpr int kCandidates = 6;
     struct Shares {
         float vertex = 1, segment = 1, solidAngle = 1;  // qA, qC, qD
     };
     static Shares candidate(int j) {
-        constexpr float q[4] = {1.0f, 0.5f, 0.25f, 0.0f};
-        return Shares{q[(j % 15) / 4], q[(j % 15) % 4], j < 15 ? 1.0f : 0.0f};
+        constexpr float a[3] = {1.0f, 1.0f, 0.0f}, c[3] = {1.0f, 0.0f, 1.0f};
+        return Shares{a[j % 3], c[j % 3], j < 3 ? 1.0f : 0.0f};
     }
     // The shares a path is made with, given its strategies' densities p at q = 1: q, but 1 for
     // a technique of share 0 that no other strategy can make the path with. A share of 0 is
@@ -80,6 +97,9 @@ public:
     // The shares pass `pass` renders with; learning until the choice is made.
     Shares shares() const { return shares_; }
     bool learning() const { return !decided_; }
+    // Whether the learning replays the samples of `pixel` (on its lattice; every pixel of an
+    // image up to kMaxLearningPixels): only those need their records.
+    static bool learnsAt(int width, int height, uint32_t pixel);
     // One learning sample at `pixel`: its value L (grey), its records, how many connections
     // it made at medium vertices (their calls) and how many on segments that the walk passes
     // through and that traced (made whatever qC: madeWith). Thread-safe for distinct pixels.
@@ -95,6 +115,13 @@ public:
 private:
     void decide(const PassSummary& summary);
     void ensure(int width, int height);
+    // The learning lattice's spacing in pixels, and a pixel's place on it (−1: not on it).
+    static int stride(int width, int height);
+    static int slotOf(int width, int height, uint32_t pixel);
+    // Per lattice pixel and candidate (kFields floats): the current 2-pass batch's sum, the
+    // first 2-pass batch of its pair, the first 4-pass batch, Σ (difference of a 2-pass pair's
+    // means)², (difference of the 4-pass pair's means)².
+    static constexpr int kFields = 5;
 
     Shares shares_;
     bool decided_ = false;
@@ -102,14 +129,16 @@ private:
     int width_ = 0, height_ = 0;
     std::mutex sizing_;
     std::atomic<bool> sized_{false};  // the per-pixel sums below are sized for the render
-    // Per pixel: the candidates' second moments, the sample values and their medium-vertex
-    // connections (summed over the learning passes).
-    std::vector<float> moments_;  // kCandidates per pixel
+    // Per lattice pixel: the batches above, and the pixel's values summed over the learning
+    // passes; per pixel: its medium-vertex connections and passing segment calls.
+    std::vector<float> batches_;  // kCandidates · kFields per lattice pixel
     std::vector<double> sum_;
+    std::vector<float> values_;  // per lattice pixel, its kLearningPasses values
     std::vector<uint32_t> vertexCalls_;
     std::vector<uint32_t> passingCalls_;
     PathCounts counts_;  // the learning passes' parts
-    double variance_[kCandidates] = {}, cost_[kCandidates] = {};
+    double variance_[kCandidates] = {}, cost_[kCandidates] = {}, error_[kCandidates] = {};
+    double rate_ = 1;  // the all-made estimator's, α
 };
 
 }  // namespace brume

@@ -32,6 +32,14 @@ constexpr double kSample = 10.6, kCameraWalk = 1.0, kLightWalk = 2.71, kLightCon
 
 namespace pt_cost {
 constexpr double kSample = 3.2, kWalk = 1.7, kVertexCall = 0.2, kSegmentCall = 2.6, kSolidAngleRay = 9.0;
+// What leaving one light connection out saves (connection_shares.h), in the same units: the
+// fit above gives the walk most of the time of A's shadow ray, which is always made beside it,
+// so A's call alone (0.2) undercounts what qA = 0 saves 6×. Measured by leaving each out
+// (64 spp, 160x120, 2 threads, two runs alternated): A on bench_thin_near and bench_forward
+// (full transport) 1.23 and 1.19 per ray, plus its call; C on bench_thin_near 1.83 per call
+// that traces; D on bench_panel (single scattering) 8.7 per ray. (On val_thin_lamp, not
+// measured for this, A's ray cost 1.33.)
+constexpr double kVertexRaySaved = 1.2, kSegmentCallSaved = 1.8, kSolidAngleRaySaved = 8.7;
 }  // namespace pt_cost
 
 // The cost of `samples` samples of the bidirectional tracer that counted `n`, every part as it

@@ -45,7 +45,7 @@ bool ConnectionShares::learnsAt(int width, int height, uint32_t pixel) { return 
 
 void ConnectionShares::ensure(int width, int height) {
     std::lock_guard<std::mutex> lock(sizing_);
-    if (width_ == width && height_ == height && !sum_.empty()) {
+    if (width_ == width && height_ == height && !values_.empty()) {
         sized_.store(true, std::memory_order_release);
         return;
     }
@@ -55,7 +55,6 @@ void ConnectionShares::ensure(int width, int height) {
     const size_t slots = size_t((width + k - 1) / k) * size_t((height + k - 1) / k);
     const size_t n = size_t(width) * size_t(height);
     batches_.assign(slots * kCandidates * kFields, 0.0f);
-    sum_.assign(slots, 0.0);
     values_.assign(slots * kLearningPasses, 0.0f);
     vertexCalls_.assign(n, 0);
     passingCalls_.assign(n, 0);
@@ -103,23 +102,16 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
 void ConnectionShares::endPass(const PassSummary& summary) {
     if (decided_ || !summary.complete || !summary.radiance) return;
     ensure(summary.width, summary.height);
-    const uint32_t n = uint32_t(summary.width) * uint32_t(summary.height);
-    for (uint32_t p = 0; p < n; ++p) {
-        const int slot = slotOf(summary.width, summary.height, p);
-        if (slot < 0) continue;
-        const Spectrum& v = summary.radiance[p];
-        sum_[size_t(slot)] += double(v.x + v.y + v.z) / 3.0;
-    }
     counts_.add(summary.totals.counts);
-    if (++passes_ >= kLearningPasses) decide(summary);
+    if (++passes_ >= kLearningPasses) decide();
 }
 
-void ConnectionShares::decide(const PassSummary& summary) {
-    (void)summary;
+void ConnectionShares::decide() {
     // E(2) and E(4) per candidate (connection_shares.h), summed in pixel order: with a, b the
     // means of the halves, (a − b)²/2 per pair.
     double e2[kCandidates] = {}, e4[kCandidates] = {};
-    for (size_t slot = 0; slot < sum_.size(); ++slot) {
+    const size_t slots = values_.size() / kLearningPasses;
+    for (size_t slot = 0; slot < slots; ++slot) {
         // The pixel's weight from the mean of its passes without the largest: where a bright
         // emitter covers a sliver of the pixel, the one pass in eight that hits it makes the
         // mean many times the pixel's value, and its weight a small part of what bench gives
@@ -179,7 +171,6 @@ void ConnectionShares::decide(const PassSummary& summary) {
     shares_ = candidate(best);
     decided_ = true;
     batches_ = {};
-    sum_ = {};
     values_ = {};
     vertexCalls_ = {};
     passingCalls_ = {};
@@ -233,7 +224,6 @@ std::string ConnectionShares::saveState() const {
     put(&width_, sizeof width_);
     put(&height_, sizeof height_);
     putVector(out, batches_);
-    putVector(out, sum_);
     putVector(out, values_);
     putVector(out, vertexCalls_);
     putVector(out, passingCalls_);
@@ -259,7 +249,6 @@ void ConnectionShares::loadState(const std::string& state) {
     const int k = width_ > 0 && height_ > 0 ? stride(width_, height_) : 1;
     const size_t slots = width_ > 0 && height_ > 0 ? size_t((width_ + k - 1) / k) * size_t((height_ + k - 1) / k) : 0;
     batches_ = r.getVector<float>(slots * kCandidates * kFields);
-    sum_ = r.getVector<double>(slots);
     values_ = r.getVector<float>(slots * kLearningPasses);
     vertexCalls_ = r.getVector<uint32_t>(pixels);
     passingCalls_ = r.getVector<uint32_t>(pixels);
@@ -272,7 +261,7 @@ void ConnectionShares::loadState(const std::string& state) {
     for (double& v : cost_) v = r.get<double>();
     for (double& v : error_) v = r.get<double>();
     if (r.at != state.size()) throw std::runtime_error("connection shares state has trailing bytes");
-    if (!decided_ && (batches_.size() != slots * kCandidates * kFields || sum_.size() != slots || values_.size() != slots * kLearningPasses ||
+    if (!decided_ && (batches_.size() != slots * kCandidates * kFields || values_.size() != slots * kLearningPasses ||
                        vertexCalls_.size() != pixels ||
                        passingCalls_.size() != pixels))
         throw std::runtime_error("connection shares state is malformed");

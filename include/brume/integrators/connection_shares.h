@@ -113,7 +113,7 @@ public:
     void loadState(const std::string& state);  // std::runtime_error if malformed
 
 private:
-    void decide(const PassSummary& summary);
+    void decide();
     void ensure(int width, int height);
     // The learning lattice's spacing in pixels, and a pixel's place on it (−1: not on it).
     static int stride(int width, int height);
@@ -129,11 +129,10 @@ private:
     int width_ = 0, height_ = 0;
     std::mutex sizing_;
     std::atomic<bool> sized_{false};  // the per-pixel sums below are sized for the render
-    // Per lattice pixel: the batches above, and the pixel's values summed over the learning
-    // passes; per pixel: its medium-vertex connections and passing segment calls.
+    // Per lattice pixel: the batches above, and the pixel's value in each learning pass; per
+    // pixel: its medium-vertex connections and passing segment calls.
     std::vector<float> batches_;  // kCandidates · kFields per lattice pixel
-    std::vector<double> sum_;
-    std::vector<float> values_;  // per lattice pixel, its kLearningPasses values
+    std::vector<float> values_;   // kLearningPasses per lattice pixel
     std::vector<uint32_t> vertexCalls_;
     std::vector<uint32_t> passingCalls_;
     PathCounts counts_;  // the learning passes' parts

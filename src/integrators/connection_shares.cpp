@@ -95,6 +95,7 @@ void ConnectionShares::addSample(int width, int height, uint32_t pixel, double L
         } else {
             const float d4 = (b[2] - four) / 4;
             b[4] += d4 * d4;
+            b[0] = b[2] + four;  // (the last pass: the sum of all eight)
         }
     }
 }
@@ -124,9 +125,14 @@ void ConnectionShares::decide() {
         typical /= kLearningPasses - 1;
         const double w = 1.0 / (typical * typical + 0.01);
         const float* b = &batches_[slot * kCandidates * kFields];
+        const double all = double(b[0]) / passes_;  // the all-made mean of the pixel
         for (int j = 0; j < kCandidates; ++j, b += kFields) {
-            e2[j] += w * double(b[3]) / 4.0;
-            e4[j] += w * double(b[4]) / 2.0;
+            // Plus the candidate's mean against the all-made one, as a variance of 8 passes
+            // (twice that at 4): where the candidate's light is in events too rare for 8
+            // passes, its batches spread little while its mean falls short of the image.
+            const double off = double(b[0]) / passes_ - all;
+            e2[j] += w * (double(b[3]) / 4.0 + 4.0 * off * off);
+            e4[j] += w * (double(b[4]) / 2.0 + 2.0 * off * off);
         }
     }
     uint64_t vertexCalls = 0, passingCalls = 0;

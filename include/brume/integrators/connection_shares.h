@@ -25,7 +25,11 @@
 // batches and E_j(4) from the pair of 4-pass batches, weighted w_p = 1/(m_p² + 0.01) as bench
 // weighs errors (m_p: the mean of the pixel's 8 passes without the largest) and summed in
 // pixel order (not a median of pixel groups: the heavy tail of a candidate that leaves a
-// technique out is what it must be charged for). The rate α = log2(E(2)/E(4)) of the all-made
+// technique out is what it must be charged for). Each also adds (m_j − m_all)², the gap
+// between the candidate's 8-pass mean and the all-made one, as a variance of 8 passes: where a
+// candidate's light is in events too rare for 8 passes (beside a 0.5° spot with C left out,
+// free flight that seldom lands in the beam), its batches spread little (its passes black)
+// while its mean falls short. The rate α = log2(E(2)/E(4)) of the all-made
 // estimator, kept in [1, 3], is taken for all (a rate per candidate from 8 passes differs by
 // its noise, which over 16× the passes outweighs the variances' differences); j's error at
 // equal time, with N ∝ 1/cost passes and V ∝ N^−α, is E_j(4)·(cost_j/cost_all)^α: with α > 1
@@ -118,9 +122,9 @@ private:
     // The learning lattice's spacing in pixels, and a pixel's place on it (−1: not on it).
     static int stride(int width, int height);
     static int slotOf(int width, int height, uint32_t pixel);
-    // Per lattice pixel and candidate (kFields floats): the current 2-pass batch's sum, the
-    // first 2-pass batch of its pair, the first 4-pass batch, Σ (difference of a 2-pass pair's
-    // means)², (difference of the 4-pass pair's means)².
+    // Per lattice pixel and candidate (kFields floats): the current 2-pass batch's sum (after
+    // the last pass: the sum of all 8), the first 2-pass batch of its pair, the first 4-pass
+    // batch, Σ (difference of a 2-pass pair's means)², (difference of the 4-pass pair's means)².
     static constexpr int kFields = 5;
 
     Shares shares_;

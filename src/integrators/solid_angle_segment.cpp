@@ -63,7 +63,7 @@ bool solidAngleDistanceOn(const Scene& scene, const Light& light, const MediumSe
             index[h][k] = c;
         }
     // The nodes' offsets t − Δ = D·tan θ_i at θ_i = θa + i·Δθ, by rotating (cos θ, sin θ) by Δθ
-    // (in double: 16 rotations lose nothing a float table keeps); an unbounded segment's last
+    // (in double: 8 rotations lose nothing a float table keeps); an unbounded segment's last
     // node just short of π/2 (tan = 1000), where q has its finite limit.
     constexpr int N = SolidAngleDistance::kBins;
     constexpr double kLastTheta = 0.5 * M_PI - 1e-3;

@@ -140,6 +140,39 @@ TEST_CASE("pixel noise: quiet pixels stop at decisions, noisy regions go on, a l
     CHECK(activePixels(film, 0.0, active).samplesLeft == -1);
 }
 
+TEST_CASE("pixel noise: a target error for the whole image stops every pixel at once at a decision", "[adaptive]") {
+    // 4×1: two noisy pixels (0 and 2 alternating), two constant ones.
+    Film film(4, 1);
+    film.trackNoise();
+    std::vector<uint8_t> active;
+    const std::vector<bool> all(4, true);
+    auto stepTo = [&](int passes) {
+        while (film.passes() < passes) {
+            const float a = film.passes() % 2 ? 2.0f : 0.0f;
+            addPass(film, {a, 1, a, 1}, all);
+        }
+    };
+    stepTo(kNoiseMinPasses);
+    // e² of a noisy pixel after n passes: s² = n/(n − 1) (values 0 and 2 about a mean of 1),
+    // its mean's variance s²/n over 1 + 0.01; the image's mean e² is half that.
+    auto imageE2 = [&](int n) { return 0.5 * (double(n) / (n - 1)) / n / 1.01; };
+    CHECK(imageActive(film, 0.0, active).meanSquared == Approx(imageE2(16)));
+    // Above the threshold: none stops; samplesLeft is the passes to reach it at 1/n, per pixel.
+    const double E = std::sqrt(imageE2(16) / 1.9);  // reached at 32 passes, not at 28
+    NoiseState s = imageActive(film, E, active, 1000);
+    CHECK(s.active == 4);
+    CHECK(s.samplesLeft == Approx(4 * (16 * 1.9 - 16)));
+    stepTo(28);
+    CHECK(imageActive(film, E, active, 1000).active == 4);
+    // Between decisions nothing is decided, even below the threshold.
+    stepTo(29);
+    CHECK(imageActive(film, 1.0, active, 1000).active == 4);
+    stepTo(32);
+    s = imageActive(film, E, active, 1000);
+    CHECK(s.active == 0);
+    CHECK(std::vector<int>(active.begin(), active.end()) == std::vector<int>{0, 0, 0, 0});
+}
+
 TEST_CASE("adaptive stopping: the same bits for 1 and 2 threads and across a resume (pt and bdpt)", "[adaptive]") {
     auto scene = loadTestScene("furnace_albedo.gltf");
     for (int which = 0; which < 2; ++which) {
@@ -211,6 +244,61 @@ TEST_CASE("adaptive stopping: the furnace is still 1 in every pixel (pt, and bdp
         }
         INFO("mean spp " << spp);
         CHECK(spp < 40);  // pixels did stop early
+        const double bound = zBound(int(px.size()) * 3);
+        double worst = 0;
+        for (const PixelEstimate& e : px)
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e.mean(c) - 1.0) / e.stderror(c));
+        const double zImage = image.mean(0) / image.stderror(0);
+        INFO("worst |z| " << worst << " (bound " << bound << "); mean of (pixel - 1) " << image.mean(0) << " ± "
+                          << image.stderror(0) << ", z " << zImage);
+        CHECK(worst < bound);
+        CHECK(std::abs(zImage) < 4.0);
+    }
+}
+
+// The furnace when the whole image stops at a target error (`--target-error`, the default
+// rule): each render stops at the first decision pass where its estimated relative error is
+// at most 0.1, which varies with the seed; 48 renders, each pixel's mean and standard error,
+// and the image's mean of (pixel − 1) (|z| < 4). A render that has not yet met its bright
+// samples looks quieter and stops sooner, darker: over the whole image that pull is weak.
+TEST_CASE("target error: the furnace is still 1 in every pixel when the whole image stops (pt and bdpt)", "[adaptive][oracle][sanitizer-skip]") {
+    auto scene = loadTestScene("furnace_albedo.gltf");
+    const int W = 16, batches = 48;
+    for (int which = 0; which < 2; ++which) {
+        INFO((which ? "bdpt" : "pt"));
+        std::vector<PixelEstimate> px(size_t(W) * W);
+        PixelEstimate image;
+        int fewest = 1 << 30, most = 0;
+        for (int b = 0; b < batches; ++b) {
+            Film film(W, W);
+            RenderOptions o = adaptiveOptions(W, 256, 0.1, 8100 + uint64_t(b), 2);
+            o.noiseWholeImage = true;
+            o.sampler = SamplerKind::Independent;  // (Sobol's passes meet the threshold at one pass for every seed)
+            if (which) render(*scene, BdptIntegrator(plainBdpt()), o, film);
+            else render(*scene, PathTracer(PathTracerOptions{}), o, film);
+            fewest = std::min(fewest, film.passes());
+            most = std::max(most, film.passes());
+            CHECK(meanSamples(film) == film.passes());  // every pixel took every pass
+            double bias = 0;
+            for (int y = 0; y < W; ++y)
+                for (int x = 0; x < W; ++x) {
+                    const Spectrum v = film.pixel(x, y);
+                    PixelEstimate& e = px[size_t(y) * W + size_t(x)];
+                    for (int c = 0; c < 3; ++c) {
+                        e.sum[c] += v[c];
+                        e.sum2[c] += double(v[c]) * v[c];
+                        bias += (v[c] - 1.0) / (3.0 * W * W);
+                    }
+                    ++e.n;
+                }
+            image.sum[0] += bias;
+            image.sum2[0] += bias * bias;
+            ++image.n;
+        }
+        INFO("passes " << fewest << " to " << most);
+        CHECK(fewest >= kNoiseMinPasses);
+        CHECK(most < 256);   // the threshold ended every render
+        CHECK(fewest < most);  // and where it did depended on the seed
         const double bound = zBound(int(px.size()) * 3);
         double worst = 0;
         for (const PixelEstimate& e : px)

@@ -114,6 +114,10 @@ TEST_CASE("cli: usage errors exit with 2 and leave no file", "[cli]") {
         {data("empty.gltf") + " -o " + out + " --noise-threshold -0.1", "--noise-threshold"},
         {data("empty.gltf") + " -o " + out + " --noise-threshold nan", "--noise-threshold"},
         {data("empty.gltf") + " -o " + out + " --noise-threshold 0.1 --integrator bdpt --strategy-images " + quote(dir / "s"), "--noise-threshold"},
+        {data("empty.gltf") + " -o " + out + " --target-error 0", "--target-error"},
+        {data("empty.gltf") + " -o " + out + " --target-error 0.1 --noise-threshold 0.1", "exclude each other"},
+        {data("empty.gltf") + " -o " + out + " --noise-threshold 0.1 --target-error 0.1", "exclude each other"},
+        {data("empty.gltf") + " -o " + out + " --target-error 0.1 --integrator bdpt --strategy-images " + quote(dir / "s"), "--target-error"},
         {data("empty.gltf") + " -o " + out + " --spp", "--spp"},
         {data("empty.gltf") + " -o " + quote(dir / "out.jpg"), "out.jpg"},
         {data("empty.gltf") + " -o " + quote(dir / "out"), "out"},
@@ -236,6 +240,38 @@ TEST_CASE("cli: 1 and 2 threads give byte-identical images and seeds differ", "[
     CHECK(t1.size() == 14 + 16 * 12 * 12);  // "PF\n16 12\n-1.0\n" + float RGB
     CHECK(t1 == t2);
     CHECK(t1 != s6);
+}
+
+// The default rule (no --spp, --time or threshold, no spp in the scene): every pixel takes
+// every pass until the image's estimated relative error is 0.1, decided from the film alone.
+TEST_CASE("cli: without --spp or --time a render stops at the default target error with the same bits for 1 and 2 threads", "[cli][adaptive]") {
+    TempDir dir;
+    const std::string scene = data("single_near.gltf");
+    Result one = runBrume("render " + scene + " -o " + quote(dir / "t1.pfm") + " --res 16x12 --integrator pt --threads 1");
+    Result two = runBrume("render " + scene + " -o " + quote(dir / "t2.pfm") + " --res 16x12 --integrator pt --threads 2");
+    INFO(one.out << one.err);
+    REQUIRE(one.code == 0);
+    REQUIRE(two.code == 0);
+    CHECK(readFile(dir / "t1.pfm") == readFile(dir / "t2.pfm"));
+    const size_t at = one.out.find("stopping rule: estimated relative error ");
+    REQUIRE(at != std::string::npos);
+    const double reached = std::stod(one.out.substr(at + 40));
+    CHECK(reached <= 0.1);
+    CHECK(one.out.find("not reached") == std::string::npos);
+    // It stopped at a decision pass past the first 16 (the summary's spp).
+    const size_t spp = one.out.find(" spp, ");
+    REQUIRE(spp != std::string::npos);
+    const int passes = std::stoi(one.out.substr(one.out.rfind(' ', spp - 1) + 1));
+    CHECK(passes >= 16);
+    CHECK(passes < 1024);
+    // An explicit --target-error ends sooner at a larger error; --spp is a plain count again.
+    Result loose = runBrume("render " + scene + " -o " + quote(dir / "l.pfm") + " --res 16x12 --integrator pt --target-error 0.3");
+    REQUIRE(loose.code == 0);
+    CHECK(loose.out.find("target error: estimated relative error ") != std::string::npos);
+    Result counted = runBrume("render " + scene + " -o " + quote(dir / "c.pfm") + " --res 16x12 --integrator pt --spp 3");
+    REQUIRE(counted.code == 0);
+    CHECK(counted.out.find("16x12, 3 spp") != std::string::npos);
+    CHECK(counted.out.find("relative error") == std::string::npos);
 }
 
 TEST_CASE("cli: the same render gives the same EXR bytes a second later (no time stamp)", "[cli]") {

@@ -139,7 +139,11 @@ struct RenderArgs {
     double checkpointEvery = 60;  // seconds
     bool checkpointEveryGiven = false;
     double writeEvery = 0;        // --write-every SECONDS (0: only at the end)
-    double noiseThreshold = 0;    // --noise-threshold E (0: off)
+    double noiseThreshold = 0;    // --noise-threshold E, or --target-error E (0: off)
+    // The threshold is the whole image's (--target-error, or the default rule): every pixel
+    // takes every pass until the image's estimated relative error reaches it.
+    bool wholeImage = false;
+    bool defaultRule = false;     // neither --spp, --time nor a threshold given, nor the scene's spp
     bool aovAlbedo = false, aovNormal = false, aovVariance = false;  // --aov
     std::string resume;           // --resume FILE
     int stopAfterPasses = -1;     // testing only: as if SIGTERM came after N passes of this run
@@ -148,6 +152,11 @@ struct RenderArgs {
 
 // The most passes adaptive stopping renders when neither --spp nor --time bounds it.
 constexpr int kAdaptiveMaxSpp = 1024;
+// The default rule of `brume render` (no --spp, --time or threshold, and no spp in the scene),
+// as Cycles stops at a noise threshold by default: every pixel takes every pass until the
+// image's estimated relative error is 0.1 (relative MSE 0.01), at most kAdaptiveMaxSpp
+// passes. No time limit by default: it would make the image depend on the machine's speed.
+constexpr double kDefaultTargetError = 0.1;
 
 // A number as a checkpoint setting: the fewest digits that read back as the same double.
 std::string numberText(double v) {
@@ -208,7 +217,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "equiangular or mis, s<S>_t<T>_ff.exr and s<S>_t<T>_ea.exr, the free-flight and "
               "equi-angular variants, instead",
               [&](const std::string& v) { a.strategyDir = v; });
-    addOption(app, "--spp", "N", "samples per pixel (default 16)", [&](const std::string& v) {
+    addOption(app, "--spp", "N",
+              "samples per pixel (default: the scene's, else until the image's estimated relative error is 0.1, "
+              "at most 1024: --target-error; 16 under mpirun or with --strategy-images)", [&](const std::string& v) {
         a.spp = int(parseInteger("--spp", v, 1, 1 << 24));
         a.sppGiven = true;
     });
@@ -297,7 +308,18 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "(chosen at passes 16, 20, 24, 28, 32, 40, ...); --spp or --time bound it (default: at most " +
                   std::to_string(kAdaptiveMaxSpp) + " spp); docs/adaptive-sampling.md",
               [&](const std::string& v) {
+                  if (a.wholeImage) throw UsageError("--noise-threshold and --target-error exclude each other");
                   a.noiseThreshold = parsePositiveNumber("--noise-threshold", v, 1e6);
+              });
+    addOption(app, "--target-error", "E",
+              "render every pixel until the whole image's estimated relative error (as --noise-threshold "
+              "estimates it) is E, checked at the same passes; --spp or --time bound it (default: at most " +
+                  std::to_string(kAdaptiveMaxSpp) + " spp). Without --spp, --time or a threshold (and no spp in "
+                  "the scene) brume render stops so at 0.1; docs/adaptive-sampling.md",
+              [&](const std::string& v) {
+                  if (a.noiseThreshold > 0 && !a.wholeImage) throw UsageError("--noise-threshold and --target-error exclude each other");
+                  a.noiseThreshold = parsePositiveNumber("--target-error", v, 1e6);
+                  a.wholeImage = true;
               });
     addOption(app, "--write-every", "SECONDS",
               "also write OUT every SECONDS while rendering, the image of the passes so far (beside OUT and "
@@ -358,7 +380,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
         a.spp = kAdaptiveMaxSpp;
         a.sppGiven = true;  // (the scene's spp does not stand in: the threshold ends the render)
     }
-    if (a.noiseThreshold > 0 && !a.strategyDir.empty()) throw UsageError("--strategy-images and --noise-threshold exclude each other");
+    if (a.noiseThreshold > 0 && !a.strategyDir.empty())
+        throw UsageError(std::string("--strategy-images and ") + (a.wholeImage ? "--target-error" : "--noise-threshold") + " exclude each other");
     // A guide started mid-render would learn from passes whose stopped pixels are black, and
     // strategy images re-render passes by strategy: --guiding auto leaves both unguided.
     if (a.noiseThreshold > 0 || !a.strategyDir.empty()) a.guidingAuto = false;
@@ -471,7 +494,7 @@ CheckpointSettings checkpointSettings(const RenderArgs& a, Resolution res, const
             {"--mis", a.heuristic == MisHeuristic::Balance ? "balance" : "power"},
             {"next-event estimation (--no-nee)", a.nee ? "on" : "off"}};
     settings.insert(settings.end(), options.begin(), options.end());
-    if (a.noiseThreshold > 0) settings.push_back({"--noise-threshold", numberText(a.noiseThreshold)});
+    if (a.noiseThreshold > 0) settings.push_back({a.wholeImage ? "--target-error" : "--noise-threshold", numberText(a.noiseThreshold)});
     if (a.aovVariance) settings.push_back({"the variance layer (--aov variance)", "on"});
     return settings;
 }
@@ -541,6 +564,15 @@ int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv
         // The scene's BRUME_render settings stand in for the options not given.
         if (a.res.width == 0 && desc.render.width > 0) a.res = Resolution{desc.render.width, desc.render.height};
         if (!a.sppGiven && a.seconds <= 0 && desc.render.spp > 0) a.spp = desc.render.spp;
+        // The default rule: neither --spp, --time, a threshold nor the scene's spp (not under
+        // mpirun, whose films keep no squares, nor for strategy images: 16 passes there).
+        if (!a.sppGiven && a.seconds <= 0 && desc.render.spp <= 0 && a.noiseThreshold <= 0 && a.strategyDir.empty() &&
+            !group.distributed()) {
+            a.noiseThreshold = kDefaultTargetError;
+            a.wholeImage = a.defaultRule = true;
+            a.spp = kAdaptiveMaxSpp;
+            a.guidingAuto = false;  // (as with any threshold: parseRenderArgs)
+        }
         if (!a.maxDepthGiven && desc.render.maxDepth >= -1) a.maxDepth = desc.render.maxDepth;
         res = imageResolution(desc.camera, a.res);
         sceneStorage.emplace(std::move(desc));
@@ -620,7 +652,11 @@ void printSummary(const RenderArgs& a, const RankGroup& group, Resolution res, c
                 a.output.c_str(), res.width, res.height, film.passes(), stats.seconds,
                 double(stats.samples) / seconds, double(stats.rays) / seconds,
                 static_cast<unsigned long long>(nonFinite), peakMemoryMiB());
-    if (a.noiseThreshold > 0 && film.tracksNoise()) {
+    if (a.noiseThreshold > 0 && film.tracksNoise() && a.wholeImage) {
+        std::printf("%s: estimated relative error %.3g, target %g%s\n", a.defaultRule ? "stopping rule" : "target error",
+                    std::sqrt(stats.estimatedRelMse), a.noiseThreshold,
+                    stats.activePixels == 0 ? "" : (" (not reached in " + std::to_string(film.passes()) + " passes)").c_str());
+    } else if (a.noiseThreshold > 0 && film.tracksNoise()) {
         double mean = 0;
         for (int32_t n : film.sampleCounts()) mean += n;
         mean /= double(film.sampleCounts().size());
@@ -674,7 +710,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     if (group.distributed() && !a.strategyDir.empty())
         throw UsageError("--strategy-images needs a single process (not mpirun)");
     if (group.distributed() && a.noiseThreshold > 0)
-        throw UsageError("--noise-threshold needs a single process (not mpirun): pixels are chosen from the whole film between passes");
+        throw UsageError(a.wholeImage ? "--target-error needs a single process (not mpirun): the image's noise is estimated from the whole film between passes"
+                                      : "--noise-threshold needs a single process (not mpirun): pixels are chosen from the whole film between passes");
     if (group.distributed() && a.aovVariance)
         throw UsageError("--aov variance needs a single process (not mpirun): the ranks' films keep no squares");
     // Under a time budget every rank would decide from its own pace: --guiding auto stays off.
@@ -783,6 +820,7 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
     options.threads = a.threads;
     options.progress = ::isatty(2) != 0;
     options.noiseThreshold = a.noiseThreshold;
+    options.noiseWholeImage = a.wholeImage;
 
     // Periodic checkpoints and images (--write-every) between passes; the state and image at
     // the end are written below. A failed periodic write is a warning: the render goes on and

@@ -95,4 +95,19 @@ NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>
     return state;
 }
 
+NoiseState imageActive(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
+    NoiseState state = activePixels(film, 0.0, active);
+    if (!(threshold > 0) || !noiseDecisionPass(film.passes())) return state;
+    const double bound = threshold * threshold, n = film.passes();
+    if (state.meanSquared <= bound) {
+        std::fill(active.begin(), active.end(), uint8_t(0));
+        state.active = 0;
+        state.samplesLeft = 0;
+        return state;
+    }
+    const double needed = maxPasses > 0 ? std::min(n * state.meanSquared / bound, double(maxPasses)) : n * state.meanSquared / bound;
+    state.samplesLeft = std::max(0.0, needed - n) * double(state.active);
+    return state;
+}
+
 }  // namespace brume

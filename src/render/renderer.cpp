@@ -57,8 +57,12 @@ public:
         if (options.noiseThreshold > 0 && noise_ >= 0) {
             char left[48] = "";
             if (secondsLeft_ >= 0) std::snprintf(left, sizeof left, ", about %.0f s left", secondsLeft_);
-            std::fprintf(stderr, "\r[noise %.3g / %.3g, %3.0f%% of pixels going on]  pass %d  %.1f s%s   ", noise_,
-                         options.noiseThreshold, 100 * activeShare_, passesDone, seconds, left);
+            if (options.noiseWholeImage)
+                std::fprintf(stderr, "\r[noise %.3g / %.3g]  pass %d  %.1f s%s   ", noise_, options.noiseThreshold,
+                             passesDone, seconds, left);
+            else
+                std::fprintf(stderr, "\r[noise %.3g / %.3g, %3.0f%% of pixels going on]  pass %d  %.1f s%s   ", noise_,
+                             options.noiseThreshold, 100 * activeShare_, passesDone, seconds, left);
             std::fflush(stderr);
             shown_ = true;
             return;
@@ -389,8 +393,10 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     auto decide = [&](int pass) -> const std::vector<uint8_t>* {
         if (!adaptive) return nullptr;
         const bool deciding = !integrator.learning(pass);
-        const NoiseState noise = activePixels(film, deciding ? options.noiseThreshold : 0.0, active,
-                                              options.timeBudget > 0 ? 0 : film.passes() + options.spp - stats.passes);
+        const int maxPasses = options.timeBudget > 0 ? 0 : film.passes() + options.spp - stats.passes;
+        const double threshold = deciding ? options.noiseThreshold : 0.0;
+        const NoiseState noise = options.noiseWholeImage ? imageActive(film, threshold, active, maxPasses)
+                                                         : activePixels(film, threshold, active, maxPasses);
         stats.activePixels = noise.active;
         stats.estimatedRelMse = noise.meanSquared;
         // The time left at this render's pace per pixel sample, estimated at decisions and

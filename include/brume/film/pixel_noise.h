@@ -38,6 +38,12 @@
 // decision reads every pixel's 5×5 neighbourhood; between decisions a pass costs what its
 // pixels cost and a scan of the image.)
 //
+// Or, for the whole image (`--target-error E`, and `brume render`'s default rule): no pixel
+// stops alone; at a decision pass every pixel stops once the image's mean e² is at most E².
+// (Choosing passes per pixel does not pay in lit fog, where the relative noise is nearly the
+// same everywhere, and it loses where a pixel's rare bright samples have not come:
+// docs/adaptive-sampling.md.)
+//
 // A function of the film alone: the same bits for any thread count and after a resume.
 #pragma once
 #include <cstdint>
@@ -72,5 +78,10 @@ bool noiseDecisionPass(int passes);
 // far, and at a decision pass (with threshold E > 0) only those of them with fewer passes
 // than their n*. Resizes `active`. `maxPasses` bounds samplesLeft.
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
+
+// The same for the whole image: at a decision pass (threshold E > 0) every pixel stops if the
+// image's mean e² is at most E², and none otherwise; samplesLeft then counts the passes that
+// would reach E² if the error falls as 1/passes (at most maxPasses).
+NoiseState imageActive(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
 
 }  // namespace brume

@@ -44,6 +44,10 @@ struct RenderOptions {
     // unbiased). Needs a film that tracks noise from its first pass (render() starts it on
     // an empty film), and a single process (firstPass < 0).
     double noiseThreshold = 0;
+    // With a noise threshold: no pixel stops alone; the render ends at the first decision pass
+    // where the whole image's estimated relative error is at most the threshold
+    // (`--target-error`, the default rule of `brume render`; pixel_noise.h, imageActive).
+    bool noiseWholeImage = false;
     // In the pixel that holds a point or spot light's image in fog and its eight neighbours,
     // film positions drawn in proportion to 1/(distance to the image) (scene/light_pixels.h);
     // false: uniform there too (tests that compare the two).

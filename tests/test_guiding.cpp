@@ -561,3 +561,46 @@ TEST_CASE("pt with --guiding auto starts its guide after its shares where at lea
     CHECK(run(enough, 20, 2));
     CHECK(!run(enough, 20, 1));  // single scattering
 }
+
+// Under a target error for the whole image (`--target-error`, `brume render`'s default rule)
+// the render's length is not given: the guide starts where the film's estimate predicts at
+// least 64 more passes (guide_start.h), and not before that estimate exists.
+TEST_CASE("pt with --guiding auto under a target error starts its guide where the estimate predicts a long render", "[guiding][adaptive]") {
+    auto scene = loadTestScene("bdpt_window_fog.gltf");
+    auto run = [&](double target, int cap, int* passes) {
+        IntegratorSettings s;
+        s.kind = IntegratorKind::PathTracer;
+        s.guidingAuto = true;
+        s.plannedPasses = cap;  // (as the command line sets it: the most passes)
+        auto pt = makeIntegrator(s);
+        Film film(24, 16);
+        RenderOptions o;
+        o.width = 24;
+        o.height = 16;
+        o.seed = 5;
+        o.threads = 2;
+        o.spp = cap;
+        o.noiseThreshold = target;
+        o.noiseWholeImage = true;
+        render(*scene, *pt, o, film);
+        *passes = film.passes();
+        return static_cast<const PathTracer&>(*pt).guide() != nullptr;
+    };
+    int passes = 0;
+    // A target far below what 100 passes reach: the estimate predicts the cap, 100 passes,
+    // from pass 4 on, and the guide starts after the shares' 8 passes.
+    CHECK(run(1e-4, 100, &passes));
+    CHECK(passes == 100);
+    // A target met at the first decision: no guide, and the render ends at pass 16.
+    CHECK_FALSE(run(10.0, 100, &passes));
+    CHECK(passes == 16);
+    // A cap that leaves fewer than 64 passes after the shares: no guide, whatever the target.
+    CHECK_FALSE(run(1e-4, GuideStart::kAutoPasses + ConnectionShares::kLearningPasses - 1, &passes));
+    GuideStart start(1024, -1);
+    CHECK(start.pays(8));  // the cap alone
+    start.expect(-1);
+    CHECK_FALSE(start.pays(8));  // not yet estimated: wait
+    start.expect(8 + GuideStart::kAutoPasses);
+    CHECK(start.pays(8));
+    CHECK_FALSE(start.pays(9));
+}

@@ -122,7 +122,8 @@ struct RenderArgs {
     ConnectMode connect = ConnectMode::Mis;
     bool guiding = false;    // --guiding on (pt)
     // --guiding auto (the default; guide_start.h): pt, and auto once it has chosen the path
-    // tracer, start a guide where enough passes follow. Resolved to off with --noise-threshold,
+    // tracer, start a guide where enough passes follow. Resolved to off with --noise-threshold
+    // (not with --target-error, whose estimate of the render's length the guide reads),
     // with --strategy-images and under mpirun with --time.
     bool guidingAuto = true;
     std::string guidingChoice = "auto";  // as given, for checkpoints
@@ -265,8 +266,8 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
               "directions from it, combined with phase and BSDF sampling, and both pt and bdpt end walks by what "
               "it expects them to bring (guided survival; bdpt: the camera walk, after 16 training passes of "
               "pt). on: pt and bdpt from the first pass; auto (the default): pt, and auto once it has chosen "
-              "the path tracer, start learning where at least 64 passes are still to come (--spp, or the time "
-              "left at the pace of the last pass), not in single scattering (--max-depth 0 or 1), with "
+              "the path tracer, start learning where at least 64 passes are still to come (--spp, the time "
+              "left at the pace of the last pass, or the length a target error's estimate predicts), not in single scattering (--max-depth 0 or 1), with "
               "--noise-threshold or --strategy-images, or under mpirun with --time",
               [&](const std::string& v) {
                   if (v != "on" && v != "off" && v != "auto")
@@ -384,7 +385,9 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
         throw UsageError(std::string("--strategy-images and ") + (a.wholeImage ? "--target-error" : "--noise-threshold") + " exclude each other");
     // A guide started mid-render would learn from passes whose stopped pixels are black, and
     // strategy images re-render passes by strategy: --guiding auto leaves both unguided.
-    if (a.noiseThreshold > 0 || !a.strategyDir.empty()) a.guidingAuto = false;
+    // (A target error for the whole image tells the guide how long the render will be:
+    // guide_start.h.)
+    if ((a.noiseThreshold > 0 && !a.wholeImage) || !a.strategyDir.empty()) a.guidingAuto = false;
     if (!a.strategyDir.empty() && a.integrator == "pt") throw UsageError("--strategy-images needs --integrator bdpt or auto");
     if (!a.strategyDir.empty() && a.seconds > 0) throw UsageError("--strategy-images needs --spp, not --time");
     // Checkpoints are for a planned number of passes: a time budget has no fixed end to resume to.
@@ -571,7 +574,6 @@ int loadAgreedScene(const RankGroup& group, const std::vector<std::string>& argv
             a.noiseThreshold = kDefaultTargetError;
             a.wholeImage = a.defaultRule = true;
             a.spp = kAdaptiveMaxSpp;
-            a.guidingAuto = false;  // (as with any threshold: parseRenderArgs)
         }
         if (!a.maxDepthGiven && desc.render.maxDepth >= -1) a.maxDepth = desc.render.maxDepth;
         res = imageResolution(desc.camera, a.res);

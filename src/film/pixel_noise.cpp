@@ -95,6 +95,14 @@ NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>
     return state;
 }
 
+int expectedPasses(int passes, double meanSquared, double threshold, int maxPasses) {
+    if (passes < 4 || !std::isfinite(meanSquared) || !(threshold > 0)) return -1;
+    double n = std::ceil(passes * meanSquared / (threshold * threshold));
+    n = std::max(n, double(passes));
+    if (maxPasses > 0) n = std::min(n, double(maxPasses));
+    return int(std::min(n, 1e9));
+}
+
 NoiseState imageActive(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
     NoiseState state = activePixels(film, 0.0, active);
     if (!(threshold > 0) || !noiseDecisionPass(film.passes())) return state;

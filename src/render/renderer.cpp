@@ -392,8 +392,15 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
     double secondsLeft = -1, leftAt = 0;
     auto decide = [&](int pass) -> const std::vector<uint8_t>* {
         if (!adaptive) return nullptr;
-        const bool deciding = !integrator.learning(pass);
         const int maxPasses = options.timeBudget > 0 ? 0 : film.passes() + options.spp - stats.passes;
+        // The whole image's rule tells the integrator how long the render is expected to be
+        // (a guide starts only where enough passes follow: guide_start.h), before it asks
+        // whether this pass learns.
+        if (options.noiseWholeImage) {
+            const NoiseState now = activePixels(film, 0.0, active);
+            integrator.expectPasses(expectedPasses(film.passes(), now.meanSquared, options.noiseThreshold, maxPasses));
+        }
+        const bool deciding = !integrator.learning(pass);
         const double threshold = deciding ? options.noiseThreshold : 0.0;
         const NoiseState noise = options.noiseWholeImage ? imageActive(film, threshold, active, maxPasses)
                                                          : activePixels(film, threshold, active, maxPasses);

@@ -79,6 +79,11 @@ bool noiseDecisionPass(int passes);
 // than their n*. Resizes `active`. `maxPasses` bounds samplesLeft.
 NoiseState activePixels(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
 
+// The length a render under a target error E for the whole image is expected to take, in
+// passes: passes × meanSquared / E² (the error falling as 1/passes), at least `passes`, at
+// most maxPasses (if > 0); −1 before 4 passes or without a finite estimate.
+int expectedPasses(int passes, double meanSquared, double threshold, int maxPasses);
+
 // The same for the whole image: at a decision pass (threshold E > 0) every pixel stops if the
 // image's mean e² is at most E², and none otherwise; samplesLeft then counts the passes that
 // would reach E² if the error falls as 1/passes (at most maxPasses).

@@ -131,6 +131,7 @@ public:
     LeftOutPasses leftOut() const override;
     void endPass(const Scene& scene, const PassSummary& summary) override;
     bool learning(int pass) const override;
+    void expectPasses(int total) override { guideStart_.expect(total); }
     // Whether this pass renders by the one-event split (BdptOptions::oneEventSplit).
     bool splitsOneEvent() const { return splitting_; }
     // Whether this (fixed) tracer's split checks light tracing's factor with the render's Sobol

@@ -91,6 +91,11 @@ public:
     // learning passes, the guide's training and noise passes). Adaptive stopping
     // (renderer.h) stops no pixel while it does. None by default.
     virtual bool learning(int pass) const { return false; }
+    // Under a target error for the whole image (renderer.h, RenderOptions::noiseWholeImage),
+    // before each pass (and before learning() is asked about it): the render's expected
+    // length in passes, from the film alone (pixel_noise.h, expectedPasses); −1 while not yet
+    // estimated. Not called otherwise.
+    virtual void expectPasses(int total) {}
     // What it keeps from pass to pass, as bytes for a checkpoint (empty: nothing), and back:
     // a render resumed from a checkpoint continues with the same state. loadState throws
     // std::runtime_error for bytes it did not write.

@@ -92,6 +92,7 @@ public:
         if (!guide_) guide_ = std::make_unique<PathGuide>(guideSettings(options_));
     }
     bool learning(int) const override { return (guide_ && guide_->learning()) || (shares_ && shares_->learning()); }
+    void expectPasses(int total) override { start_.expect(total); }
     // Inside the efficiency-aware tracer the shares learn only from the path tracer's own
     // passes (BdptIntegrator::sharesPassAt: its last duel passes, or its first passes once
     // chosen): the pilot's probes neither record nor count. Set between passes.

@@ -192,6 +192,25 @@ TEST_CASE("cli checkpoint: adaptive stopping resumes to the same bytes", "[cli][
     }
 }
 
+// A target error for the whole image (--target-error; brume render's default rule) decides from
+// the film alone, and so does the guide it lets start (the render's length predicted from the
+// film): stopped before the guide starts, in its training, while it measures its noise and
+// after, it resumes to the same bytes; the target is a setting.
+TEST_CASE("cli checkpoint: a target error with the guide it starts resumes to the same bytes", "[cli][checkpoint][adaptive]") {
+    TempDir dir;
+    const Args common = {data("bdpt_quad_fogbox.gltf"), "--integrator", "pt", "--res", "40x30", "--target-error", "0.03"};
+    const std::string ckpt = dir / "c.ckpt";
+    Result r = run(common + Args{"-o", dir / "straight.pfm", "--stats"});
+    REQUIRE(r.code == 0);
+    INFO(r.out);
+    CHECK(r.out.find("target error: estimated relative error") != std::string::npos);
+    CHECK(r.out.find("guiding: ") != std::string::npos);  // a guide started (after the shares' 8 passes)
+    CHECK(summarySpp(r.out) > 60);
+    checkResumes(common, ckpt, dir / "b.pfm", dir / "straight.pfm", {"6", "20", "36", "50"});
+    Args other = {data("bdpt_quad_fogbox.gltf"), "--integrator", "pt", "--res", "40x30", "--target-error", "0.05"};
+    checkOneLineError(run(other + Args{"-o", dir / "c.pfm", "--resume", ckpt}), "--target-error is 0.05 here but 0.03 in the checkpoint");
+}
+
 // auto's pilot ends after its second pass and its duel after its eighteenth (allocation_planner.h;
 // in single scattering the fourth and the twentieth): stopped in the pilot, just after the
 // pilot's choice, in the duel, and after a pass of the final choice, it resumes to the same bytes.

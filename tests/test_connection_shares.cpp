@@ -73,8 +73,9 @@ namespace {
 // (at a medium vertex) and C (on a segment), each a path the other could make (equal
 // densities: weights ½ and ½), with the values given per pass; each pass counts one call of
 // each. Returns the shares learned.
-ConnectionShares::Shares learnFrom(const double (&a)[8], const double (&c)[8]) {
+ConnectionShares::Shares learnFrom(const double (&a)[8], const double (&c)[8], bool keepSegments = false) {
     ConnectionShares shares;
+    shares.keepSegments(keepSegments);
     const StrategyDensities p{1.0, 0.0, 1.0, 0.0};
     for (int pass = 0; pass < ConnectionShares::kLearningPasses; ++pass) {
         const ConnectionShares::Record records[2] = {{ConnectionShares::Technique::Vertex, a[pass], p},
@@ -115,4 +116,23 @@ TEST_CASE("connection shares: the learning sees each technique's stratification"
     const ConnectionShares::Shares keepC = learnFrom(white, stratified);
     CHECK(keepC.vertex == 0.0f);
     CHECK(keepC.segment == 1.0f);
+}
+
+// Where a point or spot light lies inside a medium, leaving C out would leave A alone near
+// it, with infinite variance (connection_shares.h, keepSegments): the learning that keeps A
+// alone above keeps C too there, and the path tracer rules it out in a scene with a point
+// light in fog (the report names why).
+TEST_CASE("connection shares: C is not left out where a point light lies in a medium", "[pt][quick]") {
+    const double stratified[8] = {2.0, 0.0, 0.0, 2.1, 2.0, 0.1, 0.0, 1.9};
+    const double white[8] = {2.0, 2.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0};
+    const ConnectionShares::Shares kept = learnFrom(stratified, white, true);
+    CHECK(kept.segment == 1.0f);
+    auto scene = loadTestScene("single_near.gltf");  // a point light inside the fog
+    PathTracerOptions o{-1, true, ConnectMode::Mis};
+    o.learnShares = true;
+    PathTracer pt(o);
+    const ConnectionShares& shares = learned(*scene, pt);
+    INFO(shares.report());
+    CHECK(shares.shares().segment == 1.0f);
+    CHECK(shares.report().find("not a candidate: a point light in a medium") != std::string::npos);
 }

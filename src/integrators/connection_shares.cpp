@@ -172,6 +172,7 @@ void ConnectionShares::decide() {
         // The error at equal time relative to the all-made estimator's: with N ∝ 1/cost passes
         // and V ∝ N^−α, V_j(4)·(cost_j/cost_all)^α.
         error_[j] = variance_[j] > 0 && cost_[j] > 0 && cost_[0] > 0 ? variance_[j] * std::pow(cost_[j] / cost_[0], rate_) : 0.0;
+        if (keepSegments_ && candidate(j).segment <= 0) continue;  // (keepSegments)
         if (error_[j] > 0 && (error_[best] <= 0 || error_[j] < error_[best])) best = j;
     }
     shares_ = candidate(best);
@@ -213,8 +214,9 @@ std::string ConnectionShares::report() const {
         else
             std::snprintf(buf, sizeof buf, "  %.0f, %.0f                     ", double(q.vertex), double(q.segment));
         out += buf;
-        std::snprintf(buf, sizeof buf, "%20.3g  %8.3g  %11.3g\n", variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0,
-                      cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e);
+        std::snprintf(buf, sizeof buf, "%20.3g  %8.3g  %11.3g%s\n", variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0,
+                      cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e,
+                      keepSegments_ && q.segment <= 0 ? "   not a candidate: a point light in a medium" : "");
         out += buf;
     }
     return out;

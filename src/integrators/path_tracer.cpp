@@ -400,6 +400,14 @@ struct PartMeter {
 
 }  // namespace
 
+bool PathTracer::pointLightInMedium(const Scene& scene) {
+    if (!scene.hasMedia()) return false;
+    for (const Light& light : scene.lights())
+        if ((light.kind == LightKind::Point || light.kind == LightKind::Spot) && scene.mediaAt(light.position).current() >= 0)
+            return true;
+    return false;
+}
+
 Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, int height, Sampler& sampler,
                             PathStats& stats, const OneEventSplit* split) const {
     const bool nee = options_.nextEventEstimation;

@@ -84,7 +84,10 @@ public:
     }
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
-        if (shares_) shares_->endPass(summary);
+        if (shares_) {
+            shares_->keepSegments(pointLightInMedium(scene));
+            shares_->endPass(summary);
+        }
         start_.endPass(summary);
     }
     // Starts learning a guide from the next pass on (between passes; once).
@@ -109,6 +112,8 @@ public:
     const PathGuide* guide() const { return guide_.get(); }
 
 private:
+    // A point or spot light inside a medium (ConnectionShares::keepSegments).
+    static bool pointLightInMedium(const Scene& scene);
     static GuidingSettings guideSettings(const PathTracerOptions& o) {
         GuidingSettings s;
         s.fixedShare = o.guideShare;

@@ -237,7 +237,7 @@ bool parseRenderArgs(const std::vector<std::string>& argv, RenderArgs& a) {
     addOption(app, "--connect", "MODE",
               "light connections on medium segments: density (from the free-flight point), equiangular, "
               "product (equi-angular x phase in anisotropic media), or mis (density and product; the "
-              "default; pt makes each as often as its first 4 passes show it pays, or one alone); for bdpt: "
+              "default; pt makes each, or leaves one out, as its first 8 passes show it pays; C always beside a point light in fog); for bdpt: "
               "equi-angular variants of connection vertices",
               [&](const std::string& v) {
                   if (v == "density") a.connect = ConnectMode::Density;

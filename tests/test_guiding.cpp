@@ -109,6 +109,29 @@ double worstDifferenceZ(const std::vector<PixelEstimate>& a, const std::vector<P
     return worst;
 }
 
+// pt with --guiding auto on a 24×16 film (seed 5, 2 threads), the render's passes known
+// (plannedPasses) or not (0), with RenderOptions as `adjust` sets them (spp, a target
+// error): whether it started a guide, and how many passes it rendered.
+template <class Adjust>
+bool autoGuideStarts(const Scene& scene, int planned, int maxDepth, Adjust adjust, int* passes = nullptr) {
+    IntegratorSettings s;
+    s.kind = IntegratorKind::PathTracer;
+    s.guidingAuto = true;
+    s.plannedPasses = planned;
+    s.maxDepth = maxDepth;
+    auto pt = makeIntegrator(s);
+    Film film(24, 16);
+    RenderOptions o;
+    o.width = 24;
+    o.height = 16;
+    o.seed = 5;
+    o.threads = 2;
+    adjust(o);
+    render(scene, *pt, o, film);
+    if (passes) *passes = film.passes();
+    return static_cast<const PathTracer&>(*pt).guide() != nullptr;
+}
+
 }  // namespace
 
 TEST_CASE("guided directions: the sampler follows its density (chi-square)", "[guiding][chi2]") {
@@ -538,21 +561,7 @@ TEST_CASE("auto with --guiding auto: the chosen path tracer starts a guide where
 TEST_CASE("pt with --guiding auto starts its guide after its shares where at least 64 passes follow", "[guiding]") {
     auto scene = loadTestScene("bdpt_window_fog.gltf");
     auto run = [&](int planned, int passes, int maxDepth = -1) {
-        IntegratorSettings s;
-        s.kind = IntegratorKind::PathTracer;
-        s.guidingAuto = true;
-        s.plannedPasses = planned;
-        s.maxDepth = maxDepth;
-        auto pt = makeIntegrator(s);
-        Film film(24, 16);
-        RenderOptions o;
-        o.width = 24;
-        o.height = 16;
-        o.seed = 5;
-        o.threads = 2;
-        o.spp = passes;
-        render(*scene, *pt, o, film);
-        return static_cast<const PathTracer&>(*pt).guide() != nullptr;
+        return autoGuideStarts(*scene, planned, maxDepth, [&](RenderOptions& o) { o.spp = passes; });
     };
     const int enough = GuideStart::kAutoPasses + ConnectionShares::kLearningPasses;
     CHECK(run(enough, 20));
@@ -568,23 +577,12 @@ TEST_CASE("pt with --guiding auto starts its guide after its shares where at lea
 TEST_CASE("pt with --guiding auto under a target error starts its guide where the estimate predicts a long render", "[guiding][adaptive]") {
     auto scene = loadTestScene("bdpt_window_fog.gltf");
     auto run = [&](double target, int cap, int* passes) {
-        IntegratorSettings s;
-        s.kind = IntegratorKind::PathTracer;
-        s.guidingAuto = true;
-        s.plannedPasses = cap;  // (as the command line sets it: the most passes)
-        auto pt = makeIntegrator(s);
-        Film film(24, 16);
-        RenderOptions o;
-        o.width = 24;
-        o.height = 16;
-        o.seed = 5;
-        o.threads = 2;
-        o.spp = cap;
-        o.noiseThreshold = target;
-        o.noiseWholeImage = true;
-        render(*scene, *pt, o, film);
-        *passes = film.passes();
-        return static_cast<const PathTracer&>(*pt).guide() != nullptr;
+        // (plannedPasses: as the command line sets it, the most passes)
+        return autoGuideStarts(*scene, cap, -1, [&](RenderOptions& o) {
+            o.spp = cap;
+            o.noiseThreshold = target;
+            o.noiseWholeImage = true;
+        }, passes);
     };
     int passes = 0;
     // A target far below what 100 passes reach: the estimate predicts the cap, 100 passes,

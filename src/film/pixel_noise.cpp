@@ -104,9 +104,12 @@ int expectedPasses(int passes, double meanSquared, double threshold, int maxPass
 }
 
 NoiseState imageActive(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses) {
-    NoiseState state = activePixels(film, 0.0, active);
-    if (!(threshold > 0) || !noiseDecisionPass(film.passes())) return state;
-    const double bound = threshold * threshold, n = film.passes();
+    return imageDecision(film.passes(), activePixels(film, 0.0, active), threshold, active, maxPasses);
+}
+
+NoiseState imageDecision(int passes, NoiseState state, double threshold, std::vector<uint8_t>& active, int maxPasses) {
+    if (!(threshold > 0) || !noiseDecisionPass(passes)) return state;
+    const double bound = threshold * threshold, n = passes;
     if (state.meanSquared <= bound) {
         std::fill(active.begin(), active.end(), uint8_t(0));
         state.active = 0;

@@ -396,14 +396,14 @@ RenderStats render(const Scene& scene, Integrator& integrator, const RenderOptio
         // The whole image's rule tells the integrator how long the render is expected to be
         // (a guide starts only where enough passes follow: guide_start.h), before it asks
         // whether this pass learns.
+        NoiseState noise;
         if (options.noiseWholeImage) {
-            const NoiseState now = activePixels(film, 0.0, active);
-            integrator.expectPasses(expectedPasses(film.passes(), now.meanSquared, options.noiseThreshold, maxPasses));
+            noise = activePixels(film, 0.0, active);
+            integrator.expectPasses(expectedPasses(film.passes(), noise.meanSquared, options.noiseThreshold, maxPasses));
+            if (!integrator.learning(pass)) noise = imageDecision(film.passes(), noise, options.noiseThreshold, active, maxPasses);
+        } else {
+            noise = activePixels(film, integrator.learning(pass) ? 0.0 : options.noiseThreshold, active, maxPasses);
         }
-        const bool deciding = !integrator.learning(pass);
-        const double threshold = deciding ? options.noiseThreshold : 0.0;
-        const NoiseState noise = options.noiseWholeImage ? imageActive(film, threshold, active, maxPasses)
-                                                         : activePixels(film, threshold, active, maxPasses);
         stats.activePixels = noise.active;
         stats.estimatedRelMse = noise.meanSquared;
         // The time left at this render's pace per pixel sample, estimated at decisions and

@@ -88,5 +88,8 @@ int expectedPasses(int passes, double meanSquared, double threshold, int maxPass
 // image's mean e² is at most E², and none otherwise; samplesLeft then counts the passes that
 // would reach E² if the error falls as 1/passes (at most maxPasses).
 NoiseState imageActive(const Film& film, double threshold, std::vector<uint8_t>& active, int maxPasses = 0);
+// Its decision alone, on activePixels(film, 0, active) of a film with this many passes (the
+// renderer has that estimate already).
+NoiseState imageDecision(int passes, NoiseState estimate, double threshold, std::vector<uint8_t>& active, int maxPasses);
 
 }  // namespace brume

@@ -330,7 +330,9 @@ TEST_CASE("adaptive stopping: single scattering still matches quadrature", "[ada
     // stops every seed at 48: there one pixel's mean over the 32 Sobol renders is 4.9 of their
     // small standard errors from the quadrature (of 8×8 film positions), as it is for a plain
     // 48-pass render; with independent numbers one pixel, (2, 6), was 2.3 % high at z = 3.9
-    // over 160 renders whether they stopped or ran all 64 passes: neither is the stopping.)
+    // over 160 renders whether they stopped or ran all 64 passes: neither is the stopping, nor a
+    // bias: four renders of 200 000 independent passes put that pixel within 0.2 % of the
+    // quadrature, +0.15, +0.21, +0.08, −0.14 %.)
     for (const bool wholeImage : {false, true}) {
     INFO((wholeImage ? "whole image" : "per pixel"));
     std::vector<PixelEstimate> px(ref.size());

@@ -85,7 +85,7 @@ public:
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
         if (shares_) {
-            shares_->keepSegments(pointLightInMedium(scene));
+            if (shares_->learning()) shares_->keepSegments(pointLightInMedium(scene));  // read at the decision
             shares_->endPass(summary);
         }
         start_.endPass(summary);

@@ -38,6 +38,7 @@ OneEventSplit splitFor(ConnectMode mode, double q, double kappa) {
 TEST_CASE("one-event split: where it applies", "[bdpt][mis]") {
     CHECK(oneEventSplitApplies(*loadTestScene("single_near.gltf")));          // point light, grey fog
     CHECK(oneEventSplitApplies(*loadTestScene("single_spot.gltf")));          // spot light
+    CHECK(oneEventSplitApplies(*loadTestScene("sphere_light_fog.gltf")));     // sphere light
     CHECK_FALSE(oneEventSplitApplies(*loadTestScene("single_chromatic.gltf")));  // coloured fog
     CHECK_FALSE(oneEventSplitApplies(*loadTestScene("quad_light_fog.gltf")));    // an area light
     CHECK_FALSE(oneEventSplitApplies(*loadTestScene("bdpt_quad_fogbox.gltf")));  // bounded fog

@@ -16,15 +16,16 @@
 #include "brume/scene/camera_importance.h"
 #include "brume/scene/light_emission.h"
 #include "brume/scene/light_pixels.h"
+#include "brume/scene/light_sampling.h"
 
 namespace brume {
 
 bool oneEventSplitApplies(const Scene& scene) {
     if (scene.lightDistribution().empty() || scene.hasBoundedMedia() || scene.hasInvisibleBoundaries() ||
-        scene.hasTransparentEmitters() || scene.hasEmissiveMedia() || scene.hasHittableLights())
+        scene.hasTransparentEmitters() || scene.hasEmissiveMedia() || scene.hasTriangleLights())
         return false;
     for (const Light& l : scene.lights())
-        if (!l.isDelta() || l.atInfinity()) return false;
+        if ((!l.isDelta() && l.kind != LightKind::Sphere) || l.atInfinity()) return false;
     for (const Medium& m : scene.desc().media)
         if (m.heterogeneous() || !m.grey() || m.emissive()) return false;
     return true;
@@ -107,8 +108,17 @@ float OneEventSplit::weightFrom(const Scene& scene, Vec3 x, const Medium& m, int
     if (!(sl > 0)) return 1.0f;
     float pos, dir;
     const Vec3 dl = fromLight / sl;
-    emissionPdf(scene, scene.lights()[size_t(li)], y, Vec3(0.0f), dl, &pos, &dir);
-    const double pl = q * kappa * double(dir) / (double(sl) * sl);
+    const Light& light = scene.lights()[size_t(li)];
+    emissionPdf(scene, light, y, Vec3(0.0f), dl, &pos, &dir);
+    double pl = q * kappa * double(dir) / (double(sl) * sl);
+    if (light.kind == LightKind::Sphere) {  // y's own densities (header, "Sphere lights")
+        const Vec3 n = normalize(y - light.position);
+        const Vec3 c = scene.camera().position;
+        const Vec3 wc = normalize(x - c);
+        const double pA = lightPdf(scene, light, x, y, n), pB = hgPhase(dot(wc, -dl), m.g);
+        pc *= (pA + pB) * std::abs(double(dot(n, dl))) / (double(sl) * sl);
+        pl *= double(pos);
+    }
     const double B = pl * pl * lightSquares(mode, m.sigmaT().x, y, dl, sl, scene.camera().position);
     const double A = pc * pc;
     if (!(B > 0)) return 1.0f;
@@ -128,10 +138,18 @@ double OneEventSplit::cameraDensity(const Scene& scene, Vec3 x, const Medium& m,
     ++stats.rays;
     const SurfaceHit hit = scene.intersect(leaving(c, Vec3(0.0f), d).query);
     EquiAngular ea;
-    if (!equiAngularTowards(light, y, MediumSegment{c, d, hit.valid() ? hit.t : kInfinity, &m},
-                            connectAnisotropy(mode, m.g), &ea))
+    if (!equiAngularTowards(light, light.kind == LightKind::Sphere ? light.position : y,
+                            MediumSegment{c, d, hit.valid() ? hit.t : kInfinity, &m}, connectAnisotropy(mode, m.g), &ea))
         return 0.0;
     return double(equiAngularPdf(ea, s));
+}
+
+double OneEventSplit::cameraDensityOn(const Light& light, const MediumSegment& seg, float t) const {
+    const float sigmaT = seg.medium->sigmaT().x;
+    if (mode == ConnectMode::Density) return double(sigmaT) * std::exp(-double(sigmaT) * t);
+    EquiAngular ea;
+    if (!equiAngularTowards(light, light.position, seg, connectAnisotropy(mode, seg.medium->g), &ea)) return 0.0;
+    return double(equiAngularPdf(ea, t));
 }
 
 // The light family (one_event_split.h): x = y + t·d on the light's ray, before its first
@@ -172,7 +190,9 @@ void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const 
         return t < tEnd ? double(sigmaT) * std::exp(-double(sigmaT) * t) : 0.0;
     };
     const float gCamera = connectAnisotropy(split.mode, m->g);
-    const Spectrum emitted = es.Le / (pick * es.pdfPos * es.pdfDir) * m->sigmaS;
+    // (Le·|cos θ_y| / (pdfPos·p_e); no cosine at a point or spot light.)
+    const float cosY = light.kind == LightKind::Sphere ? std::abs(dot(es.n, es.d)) : 1.0f;
+    const Spectrum emitted = es.Le * cosY / (pick * es.pdfPos * es.pdfDir) * m->sigmaS;
     for (int variant = 0; variant < 2; ++variant) {
         const bool equiAngular = variant == 1;
         if (equiAngular && !eaOn) continue;

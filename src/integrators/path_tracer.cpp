@@ -49,9 +49,13 @@ namespace {
 struct FamilyShare {
     const OneEventSplit* split = nullptr;
     float* weight = nullptr;
-    // x in m, y on light li; p: the density per unit length with which x was placed.
-    void weigh(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double p) const {
-        if (split) *weight = split->cameraFamilyWeight(scene, x, m, li, y, p);
+    // x in m, y on light li; p: the density per unit length with which x was placed, at t on
+    // seg. Beside a sphere light every strategy takes C's density there (one_event_split.h).
+    void weigh(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double p, const MediumSegment& seg, float t) const {
+        if (!split) return;
+        const Light& light = scene.lights()[size_t(li)];
+        if (light.kind == LightKind::Sphere) p = split->cameraDensityOn(light, seg, t);
+        *weight = split->cameraFamilyWeight(scene, x, m, li, y, p);
     }
 };
 
@@ -254,7 +258,7 @@ Spectrum sampleDirect(const Scene& scene, const Vertex& v, const MediumStack& me
     Spectrum T = transmittanceAlong(scene, seg, media, stats);
     const Spectrum value = f * ls.Le * T * (w / (q * pick * ls.pdf));
     if (v.origin) shares.note(ConnectionShares::Technique::Vertex, value, w, p);
-    if (v.origin) family.weigh(scene, v.p, *v.origin->seg.medium, li, ls.p, v.origin->pFreeFlight);
+    if (v.origin) family.weigh(scene, v.p, *v.origin->seg.medium, li, ls.p, v.origin->pFreeFlight, v.origin->seg, v.origin->t);
     return value;
 }
 
@@ -328,7 +332,7 @@ Spectrum equiAngularDirect(const Scene& scene, const MediumSegment& seg, const M
     if (w == 0) return Spectrum(0.0f);
     const Spectrum value = inScattered(scene, seg, tr, x, ls, li, phase, float(w / p.c), media, stats);
     shares.note(ConnectionShares::Technique::Segment, value, w, p);
-    family.weigh(scene, x, m, li, ls.p, pea);
+    family.weigh(scene, x, m, li, ls.p, pea, seg, origin.t);
     return value;
 }
 
@@ -494,7 +498,17 @@ Spectrum PathTracer::sample(const Scene& scene, float fx, float fy, int width, i
     };
     auto emitterHit = [&](const SurfaceHit& hit) {
         const Spectrum Le = scene.emission(hit, -ray.d);
-        if (!isBlack(Le)) L += counted(PathTracerTechnique::EmitterHit, beta * Le * emitterWeight(hit, Le));
+        if (isBlack(Le)) return;
+        Spectrum value = beta * Le * emitterWeight(hit, Le);
+        // A sphere light hit from the one event x: the camera family's share of the path
+        // (one_event_split.h, "Sphere lights").
+        if (split && depth == 1 && prevInMedium && hit.sphereLight >= 0) {
+            float share = 1;
+            FamilyShare{split, &share}.weigh(scene, prevP, *prevOrigin.seg.medium, hit.sphereLight, hit.p, 0.0, prevOrigin.seg,
+                                             prevOrigin.t);
+            value = split->share(value, share);
+        }
+        L += counted(PathTracerTechnique::EmitterHit, value);
     };
     // A transparent emitter the ray crosses (Material::transparent; a boundary piece's end):
     // its emission, as if the ray had ended there, and the walk goes on unchanged. Nothing

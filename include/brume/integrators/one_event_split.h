@@ -2,8 +2,9 @@
 // family's paths made by the path tracer itself, and light tracing's, split between them by
 // one weight per path (docs/mis.md, "One scattering event: two families").
 //
-// Why. In single scattering (--max-depth 1) beside point and spot lights in homogeneous grey
-// fog, a path camera c → x (in the medium) → light point y is made by two families:
+// Why. In single scattering (--max-depth 1) beside point, spot and sphere lights in
+// homogeneous grey fog, a path camera c → x (in the medium) → light point y is made by two
+// families:
 //   camera: the camera ray through x, x placed on it equi-angularly towards y (the path
 //           tracer's strategy C, product sampling where it takes the phase; the walk passes
 //           through the medium there, so C stands alone), or with --connect density by free
@@ -38,6 +39,19 @@
 // need no ray.
 // Paths whose x is on a surface are the camera family's alone (W_C = 1: light tracing here
 // makes none of them).
+//
+// Sphere lights. There y is a point on the sphere, made by both families with a density per
+// unit area of its own: by the camera family's next-event estimation at x (solid angle p_A,
+// or B's phase function p_B when a phase-sampled ray hits the sphere), by light tracing
+// uniformly over the surface (pdfPos), then cosine-distributed (p_e). So
+//   p_C = P_C · pdfDir(ω_cx) · m / |x − c|² · π_C · (p_A + p_B)(ω_xy) · |cos θ_y| / |x − y|²
+//   p_L = q · P_L · pdfPos · p_e(ω_yx) / |x − y|² · π_L
+// and every camera-family value of such a path (A, B and C alike) takes W_C of the same
+// path: π_C is then C's equi-angular density towards the centre (cameraDensityOn) whichever
+// of the path tracer's strategies placed x, so that the families' weights still sum to one
+// on every path. Light tracing's value carries the cosine at y (Le·|cos θ_y| / (pdfPos·p_e)).
+// The walk makes no vertex past x in single scattering, so no path reaches the sphere through
+// a specular surface.
 #pragma once
 #include "brume/integrators/integrator.h"
 #include "brume/integrators/path_tracer.h"
@@ -48,12 +62,13 @@
 namespace brume {
 
 class DirectLightTracing;
+struct MediumSegment;
 class SplatList;
 struct PathStats;
 class Sampler;
 
 // Whether single scattering in `scene` is made by the two families above: every light a
-// point or spot light, media (if any) only the ambient one, homogeneous, grey and not
+// point, spot or sphere light, media (if any) only the ambient one, homogeneous, grey and not
 // emissive, nothing transparent that emits.
 bool oneEventSplitApplies(const Scene& scene);
 
@@ -90,6 +105,9 @@ struct OneEventSplit {
     // That density as the path tracer has it: equi-angular (product) over the camera ray's
     // segment to its first surface, clipped to the light (one ray), or free flight.
     double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y, PathStats& stats) const;
+    // The same at distance t on that segment, known (the camera family's own segment): towards
+    // the light's position (a sphere's centre, where the path tracer's strategy C aims).
+    double cameraDensityOn(const Light& light, const MediumSegment& seg, float t) const;
     // A camera-family value of such a path and its W_C: summed alone while learning, returned
     // weighted.
     Spectrum share(const Spectrum& value, float weight) const {

@@ -7,10 +7,14 @@
 
 #include <cmath>
 
+#include "brume/film/film.h"
 #include "brume/integrators/bdpt.h"
+#include "brume/integrators/connection_shares.h"
+#include "brume/integrators/direct_light_tracing.h"
 #include "brume/integrators/equiangular_segment.h"
 #include "brume/integrators/one_event_split.h"
 #include "brume/integrators/path_stats.h"
+#include "brume/render/renderer.h"
 #include "brume/sampling/sampler.h"
 #include "brume/scene/camera_importance.h"
 #include "support/pixel_estimates.h"
@@ -126,4 +130,40 @@ TEST_CASE("one-event split: the light side finds the path tracer's density of x"
             CHECK(worst < 2e-3);
         }
     }
+}
+
+// The fixed tracer's camera family in the split is the path tracer, which learns how often to
+// make its connections in media (connection_shares.h) as `pt` does, from 8 passes of the
+// render's Sobol numbers: light tracing's 4 learning passes (independent numbers) come first,
+// so its shares are decided after pass 4 + 8 − 1 and not before; the same for 1 and 2 threads.
+TEST_CASE("one-event split: the fixed tracer's path tracer learns its connection shares", "[bdpt][mis]") {
+    auto scene = loadTestScene("sphere_light_fog.gltf");
+    const int learnedAfter = DirectLightTracing::kPasses + ConnectionShares::kLearningPasses;
+    std::vector<Spectrum> image[2];
+    for (int threads : {1, 2})
+        for (int spp : {learnedAfter - 1, learnedAfter}) {
+            BdptOptions o{1, MisHeuristic::Power};
+            o.connect = ConnectMode::Mis;
+            o.learnShares = true;  // (the command's default)
+            BdptIntegrator bdpt(o);
+            Film film(kW, kH);
+            RenderOptions ro;
+            ro.width = kW;
+            ro.height = kH;
+            ro.spp = spp;
+            ro.seed = 3;
+            ro.threads = threads;
+            render(*scene, bdpt, ro, film);
+            REQUIRE(bdpt.splitsOneEvent());
+            REQUIRE(bdpt.connectionShares());
+            INFO(spp << " passes, " << threads << " threads");
+            CHECK(bdpt.connectionShares()->learning() == (spp < learnedAfter));
+            if (spp < learnedAfter) continue;
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x) image[threads - 1].push_back(film.pixel(x, y));
+        }
+    bool same = image[0].size() == image[1].size();
+    for (size_t i = 0; same && i < image[0].size(); ++i)
+        same = image[0][i].x == image[1][i].x && image[0][i].y == image[1][i].y && image[0][i].z == image[1][i].z;
+    CHECK(same);
 }

@@ -878,7 +878,8 @@ int renderOn(const RankGroup& group, const std::vector<std::string>& argv) {
         // And the path tracer the passes that learn its connection shares (connection_shares.h).
         // (auto's and bdpt's path tracer learn theirs in its 8 duel passes, or the 8 passes
         // after auto's pilot where there is no duel, or from pass 0 with `--allocation "path
-        // tracer"`.)
+        // tracer"`; bdpt's single-scattering split in light tracing's check passes, or in its
+        // first 8 passes where light tracing's factor is not learned.)
         const bool learnsShares = connectionSharesOf(a, integrator) != nullptr;
         const int sharePasses = learnsShares ? ConnectionShares::kLearningPasses : 0;
         // And --guiding auto (with --spp: every rank starts the guide at the same pass, after

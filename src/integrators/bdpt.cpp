@@ -42,7 +42,11 @@ BdptIntegrator::BdptIntegrator(BdptOptions options)
           o.guidingAuto = options.guidingAuto && options.efficiencyAware;  // started here (guideStartsAt)
           o.guideShare = options.guideShare;
           o.volumeLights = options.volumeLights;
-          o.learnShares = options.learnShares && !options.guiding && (options.efficiencyAware || options.allocation.pathTracer);
+          // (The fixed tracer's too where it may split single scattering: its camera family is
+          // this path tracer, which learns its shares there as `pt` does, beginPass.)
+          const bool mayLearnInSplit = !options.efficiencyAware && options.maxDepth == 1 && options.oneEventSplit;
+          o.learnShares = options.learnShares && !options.guiding &&
+                          (options.efficiencyAware || options.allocation.pathTracer || mayLearnInSplit);
           return o;
       }()),
       guideStart_(options.plannedPasses, options.maxDepth) {
@@ -97,8 +101,6 @@ bool BdptIntegrator::splitApplies(const Scene& scene) const {
 bool BdptIntegrator::checksLightTracing(const Scene& scene) const { return !planner_ && direct_ && splitApplies(scene); }
 
 void BdptIntegrator::beginPass(const Scene& scene, int pass) {
-    sharesPass_ = sharesPassAt(pass);
-    pathTracer_.pauseShares(!sharesPass_);
     if (guideStartsAt(pass)) pathTracer_.startGuide();
     guideTraining_ = pathTracer_.guide() && pathTracer_.guide()->training();
     learningDirect_ = !guideTraining_ && direct_ && direct_->learning(pass >= guidePasses() ? pass - guidePasses() : pass);
@@ -107,6 +109,11 @@ void BdptIntegrator::beginPass(const Scene& scene, int pass) {
     // auto's pilot and duel contender (the pilot's allocation) there. (Not under the hooks,
     // which show and check the generic strategies.)
     splitting_ = splitApplies(scene);
+    // The fixed tracer's split: its camera family (the path tracer) learns its connection
+    // shares in its first Sobol passes (after light tracing's learning passes, whose numbers
+    // are independent: the check's passes), as `pt` does in its first 8.
+    sharesPass_ = sharesPassAt(pass) || (!planner_ && splitting_ && !learningDirect_ && pathTracer_.sharesLearning());
+    pathTracer_.pauseShares(!sharesPass_);
     // The fixed tracer's split checks light tracing's factor with the render's Sobol numbers.
     checkingDirect_ = splitting_ && !planner_ && direct_ && direct_->checking(pass);
     if (!planner_) return;

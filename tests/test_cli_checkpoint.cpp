@@ -165,6 +165,17 @@ TEST_CASE("cli checkpoint: stopped twice and resumed gives the same bytes as str
     }
 }
 
+// bdpt in single scattering beside a sphere light (the one-event split): stopped while light
+// tracing's factor is learnt (passes 0–3), while its check and the path tracer's connection
+// shares learn (4–11), and after, it resumes to the same bytes.
+TEST_CASE("cli checkpoint: bdpt's single-scattering split resumes while its shares learn", "[cli][checkpoint]") {
+    TempDir dir;
+    const Args args = {data("sphere_light_fog.gltf"), "--integrator", "bdpt", "--max-depth", "1", "--res", "40x30",
+                       "--spp", "16", "--seed", "5"};
+    REQUIRE(run(args + Args{"-o", dir / "straight.pfm", "--threads", "2"}).code == 0);
+    checkResumes(args, dir / "c.ckpt", dir / "b.pfm", dir / "straight.pfm", {"2", "6", "11", "13"});
+}
+
 // Adaptive stopping (--noise-threshold) decides from the film alone, whose per-pixel counts
 // and squares the checkpoint keeps: stopped before any pixel stopped, while pixels stop, and
 // (auto) inside its learning passes, it resumes to the same bytes; the threshold is a setting.

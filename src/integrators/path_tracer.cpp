@@ -52,7 +52,7 @@ struct FamilyShare {
     // x in m, y on light li; p: the density per unit length with which x was placed, at t on
     // seg. Beside a sphere light every strategy takes C's density there (one_event_split.h).
     void weigh(const Scene& scene, Vec3 x, const Medium& m, int li, Vec3 y, double p, const MediumSegment& seg, float t) const {
-        if (!split) return;
+        if (!split || split->q <= 0 || split->kappa <= 0) return;  // (W_C = 1: no light tracing)
         const Light& light = scene.lights()[size_t(li)];
         if (light.kind == LightKind::Sphere) p = split->cameraDensityOn(light, seg, t);
         *weight = split->cameraFamilyWeight(scene, x, m, li, y, p);

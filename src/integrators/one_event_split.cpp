@@ -158,9 +158,10 @@ double OneEventSplit::cameraDensityOn(const Light& light, const MediumSegment& s
 //   value = Le/(P·p_e) · e^(−σt t)·σs / π_v(t) · phase · T(x, c) · We·cosθ/|x − c|²
 // (camera_importance.h), weighted π_v² / (π_ff² + π_ea²) within light tracing (the exact
 // densities of this ray), then W_L = 1 − W_C, and counted 1/q. Where W_L is likely small (its
-// bound from the camera family's stand-in density, below the exact one: a segment's
-// normalisation is at most the unbounded ray's), the splat is made with probability
-// r = W_L bound / kSplatLevel before any ray is traced, and counted 1/r.
+// bound from the camera family's density taken from below, with no ray: equi-angular over the
+// unbounded ray, whose normalisation is at least a segment's; with --connect density the free
+// flight itself), the splat is made with probability r = W_L bound / kSplatLevel before any ray
+// is traced, and counted 1/r.
 void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const Sampler& sampler, PathStats& stats,
                           SplatList& splats, DirectLightTracing* learning) {
     const uint32_t start = dim::kLightStart;
@@ -205,9 +206,17 @@ void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const 
         if (!connectToCamera(cam, x, split.width, split.height, &cc)) continue;
         double r = 1;  // the splat's probability
         if (!learning) {
+            // The camera family's density of x from below: with --connect density exactly its
+            // free flight (the equi-angular stand-in, above it near the light's closest
+            // approach, made the bound too small there and the splat's 1/r a heavy tail); else
+            // equi-angular over the unbounded ray, towards where C aims (a sphere's centre).
             const Vec3 c = cam.position;
             const float sc = cc.dist;
-            const double bound = 1.0 - split.cameraWeight(scene, x, *m, li, es.p, equiAngularStandInPdf(c, -cc.wi, es.p, sc, gCamera));
+            const double below = split.mode == ConnectMode::Density
+                                     ? double(sigmaT) * std::exp(-double(sigmaT) * sc)
+                                     : double(equiAngularStandInPdf(c, -cc.wi, light.kind == LightKind::Sphere ? light.position : es.p,
+                                                                    sc, gCamera));
+            const double bound = 1.0 - split.cameraWeight(scene, x, *m, li, es.p, below);
             r = std::min(1.0, bound / kSplatLevel);
             const float u = equiAngular ? sampler.get1D(dim::connection(2, 1) + dim::kConnect)
                                         : sampler.get1D(dim::walkVertex(dim::Side::Light, 0) + dim::kRoulette);

@@ -131,17 +131,12 @@ double OneEventSplit::cameraDensity(const Scene& scene, Vec3 x, const Medium& m,
     const Vec3 c = scene.camera().position;
     const float s = length(x - c);
     if (!(s > 0)) return 0.0;
-    const float sigmaT = m.sigmaT().x;
-    if (mode == ConnectMode::Density) return double(sigmaT) * std::exp(-double(sigmaT) * s);
-    // The path tracer's segment: the camera ray to its first surface.
     const Vec3 d = (x - c) / s;
+    if (mode == ConnectMode::Density) return cameraDensityOn(light, MediumSegment{c, d, kInfinity, &m}, s);
+    // The path tracer's segment: the camera ray to its first surface.
     ++stats.rays;
     const SurfaceHit hit = scene.intersect(leaving(c, Vec3(0.0f), d).query);
-    EquiAngular ea;
-    if (!equiAngularTowards(light, light.kind == LightKind::Sphere ? light.position : y,
-                            MediumSegment{c, d, hit.valid() ? hit.t : kInfinity, &m}, connectAnisotropy(mode, m.g), &ea))
-        return 0.0;
-    return double(equiAngularPdf(ea, s));
+    return cameraDensityOn(light, MediumSegment{c, d, hit.valid() ? hit.t : kInfinity, &m}, s);
 }
 
 double OneEventSplit::cameraDensityOn(const Light& light, const MediumSegment& seg, float t) const {

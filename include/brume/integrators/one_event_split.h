@@ -102,8 +102,10 @@ struct OneEventSplit {
         rayFilm_ = -1;
         pickLight_ = -1;
     }
-    // That density as the path tracer has it: equi-angular (product) over the camera ray's
-    // segment to its first surface, clipped to the light (one ray), or free flight.
+    // That density as the path tracer has it: equi-angular (product) towards the light's
+    // position over the camera ray's segment to its first surface, clipped to the light (one
+    // ray), or free flight (no ray). (y, the light's point, is not needed: a point or spot
+    // light's y is its position, and C aims at a sphere's centre.)
     double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y, PathStats& stats) const;
     // The same at distance t on that segment, known (the camera family's own segment): towards
     // the light's position (a sphere's centre, where the path tracer's strategy C aims).

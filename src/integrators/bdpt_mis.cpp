@@ -33,15 +33,20 @@ template <> struct Sums<double> {
     static void set(PathVertex& v, int, double prefix) { v.misPrefixGrey = prefix; }
     static void setVariant(PathVertex& v, const ChannelsOf<double>& V) { v.misVariantGrey = V[0]; }
 };
+// A stored logarithm back to its value, and a value to its logarithm: in double where the
+// value lies inside double's range, which is nearly always so (long double's exp and log cost
+// about 5× double's: a quarter of a coloured pass went to them), in long double beyond it.
+long double wideExp(double x) { return std::fabs(x) < 700.0 ? (long double)std::exp(x) : std::exp((long double)x); }
+double wideLog(long double v) { return v > 1e-300L && v < 1e300L ? std::log(double(v)) : double(std::log(v)); }
+
 template <> struct Sums<long double> {  // kept as natural logarithms in double (log 0 = −∞)
-    template <class V> static long double prefix(const V& v, int c) { return std::exp((long double)v.misPrefix[c]); }
+    template <class V> static long double prefix(const V& v, int c) { return wideExp(v.misPrefix[c]); }
     template <class V> static WideChannels variant(const V& v) {
-        return WideChannels(std::exp((long double)v.misVariant[0]), std::exp((long double)v.misVariant[1]),
-                            std::exp((long double)v.misVariant[2]));
+        return WideChannels(wideExp(v.misVariant[0]), wideExp(v.misVariant[1]), wideExp(v.misVariant[2]));
     }
-    static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = double(std::log(prefix)); }
+    static void set(PathVertex& v, int c, long double prefix) { v.misPrefix[c] = wideLog(prefix); }
     static void setVariant(PathVertex& v, const WideChannels& V) {
-        for (int c = 0; c < 3; ++c) v.misVariant[c] = double(std::log(V[c]));
+        for (int c = 0; c < 3; ++c) v.misVariant[c] = wideLog(V[c]);
     }
 };
 

@@ -120,7 +120,7 @@ TEST_CASE("one-event split: the light side finds the path tracer's density of x"
                 const float t = sampleEquiAngular(ea, s.next1D());
                 const double p = equiAngularPdf(ea, t);
                 if (!(p > 0)) continue;
-                const double found = split.cameraDensity(*scene, r.o + r.d * t, m, light, light.position, stats);
+                const double found = split.cameraDensity(*scene, r.o + r.d * t, m, light, stats);
                 worst = std::max(worst, std::abs(found / p - 1));
                 ++compared;
             }

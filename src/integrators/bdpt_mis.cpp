@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "brume/integrators/bdpt_equiangular.h"
@@ -36,8 +37,15 @@ template <> struct Sums<double> {
 // A stored logarithm back to its value, and a value to its logarithm: in double where the
 // value lies inside double's range, which is nearly always so (long double's exp and log cost
 // about 5× double's: a quarter of a coloured pass went to them), in long double beyond it.
-long double wideExp(double x) { return std::fabs(x) < 700.0 ? (long double)std::exp(x) : std::exp((long double)x); }
-double wideLog(long double v) { return v > 1e-300L && v < 1e300L ? std::log(double(v)) : double(std::log(v)); }
+// (Sums of zero, log −∞, are common: strategies a lane leaves out.)
+long double wideExp(double x) {
+    if (std::fabs(x) < 700.0) return (long double)std::exp(x);
+    return x == -std::numeric_limits<double>::infinity() ? 0.0L : std::exp((long double)x);
+}
+double wideLog(long double v) {
+    if (v > 1e-300L && v < 1e300L) return std::log(double(v));
+    return v == 0.0L ? -std::numeric_limits<double>::infinity() : double(std::log(v));  // (logl(0) takes libm's error path)
+}
 
 template <> struct Sums<long double> {  // kept as natural logarithms in double (log 0 = −∞)
     template <class V> static long double prefix(const V& v, int c) { return wideExp(v.misPrefix[c]); }

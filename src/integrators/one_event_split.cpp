@@ -126,7 +126,7 @@ float OneEventSplit::weightFrom(const Scene& scene, Vec3 x, const Medium& m, int
     return float(A / (A + B));
 }
 
-double OneEventSplit::cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y,
+double OneEventSplit::cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light,
                                     PathStats& stats) const {
     const Vec3 c = scene.camera().position;
     const float s = length(x - c);
@@ -227,7 +227,7 @@ void oneEventLightTracing(const Scene& scene, const OneEventSplit& split, const 
         if (learning) learning->addLight(int(cc.fx), int(cc.fy), value * float(within / split.q));
         double w = 0;
         if (!isBlack(value)) {
-            const double pCamera = split.cameraDensity(scene, x, *m, light, es.p, stats);
+            const double pCamera = split.cameraDensity(scene, x, *m, light, stats);
             w = within * (1.0 - split.cameraWeight(scene, x, *m, li, es.p, pCamera)) / (split.q * r);
         }
         stats.counts.bdpt.rays(StrategyKind::CameraConnection, equiAngular) += stats.rays - rays0;

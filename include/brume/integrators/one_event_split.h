@@ -104,9 +104,9 @@ struct OneEventSplit {
     }
     // That density as the path tracer has it: equi-angular (product) towards the light's
     // position over the camera ray's segment to its first surface, clipped to the light (one
-    // ray), or free flight (no ray). (y, the light's point, is not needed: a point or spot
-    // light's y is its position, and C aims at a sphere's centre.)
-    double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, Vec3 y, PathStats& stats) const;
+    // ray), or free flight (no ray). (The light's point is not needed: a point or spot light's
+    // is its position, and C aims at a sphere's centre.)
+    double cameraDensity(const Scene& scene, Vec3 x, const Medium& m, const Light& light, PathStats& stats) const;
     // The same at distance t on that segment, known (the camera family's own segment): towards
     // the light's position (a sphere's centre, where the path tracer's strategy C aims).
     double cameraDensityOn(const Light& light, const MediumSegment& seg, float t) const;

@@ -16,8 +16,10 @@
 // on relative error) to its time per sample over that of `bdpt --connect mis` on the same
 // scene, counted with the weights above, on the 14 bundled scenes, single scattering and
 // full transport (1 thread, 160x120, best of 2): median error 11 % (density) and 14 % (mis),
-// worst 0.56× (a panel light, single scattering) and 1.75× (dusk_haze); on the validation
-// scenes, which it was not fitted on, see docs/results.md.
+// worst 0.56× (a panel light, single scattering) and 1.75× (dusk_haze: most of it was the
+// bidirectional tracer's coloured MIS in long double exp and log, since removed; the pilot's
+// rating of the path tracer there is now 1.3× what it measures, docs/results.md); on the
+// validation scenes, which it was not fitted on, see docs/results.md.
 #pragma once
 #include <cstdint>
 

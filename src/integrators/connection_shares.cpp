@@ -216,7 +216,7 @@ std::string ConnectionShares::report() const {
         out += buf;
         std::snprintf(buf, sizeof buf, "%20.3g  %8.3g  %11.3g%s\n", variance_[0] > 0 ? variance_[j] / variance_[0] : 0.0,
                       cost_[0] > 0 ? cost_[j] / cost_[0] : 0.0, e,
-                      keepSegments_ && q.segment <= 0 ? "   not a candidate: a point light in a medium" : "");
+                      keepSegments_ && q.segment <= 0 ? "   not a candidate: a point-like light in a medium" : "");
         out += buf;
     }
     return out;

@@ -404,10 +404,11 @@ struct PartMeter {
 
 }  // namespace
 
-bool PathTracer::pointLightInMedium(const Scene& scene) {
+bool PathTracer::pointLikeLightInMedium(const Scene& scene) {
     if (!scene.hasMedia()) return false;
     for (const Light& light : scene.lights())
-        if ((light.kind == LightKind::Point || light.kind == LightKind::Spot) && scene.mediaAt(light.position).current() >= 0)
+        if ((light.kind == LightKind::Point || light.kind == LightKind::Spot || light.kind == LightKind::Sphere) &&
+            scene.mediaAt(light.position).current() >= 0)
             return true;
     return false;
 }

@@ -115,8 +115,10 @@ public:
     // a free-flight point at distance r carries 1/r², and over the points of a ball around the
     // light ∫ (1/r²)² r² dr diverges; B cannot hit a point), a tail that 8 learning passes
     // do not show. Chosen so, `val_doorway` (full transport) rendered a firefly at seed 93:
-    // relative MSE 1.04 against 0.05 at the other seeds. Set by the path tracer before each
-    // endPass (PathTracer::endPass).
+    // relative MSE 1.04 against 0.05 at the other seeds. Beside a sphere light of radius R the
+    // tail is bounded ((R/r)², r ≥ R) but as rare and as high where R is small: chosen so,
+    // `dusk_haze` (0.12-m lamps) rendered single pixels 20–50× their mean. Set by the path
+    // tracer before each endPass (PathTracer::endPass).
     void keepSegments(bool keep) { keepSegments_ = keep; }
     // The choice, for --stats: each candidate's estimated relative variance and cost.
     std::string report() const;

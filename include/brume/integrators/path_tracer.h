@@ -85,7 +85,7 @@ public:
     void endPass(const Scene& scene, const PassSummary& summary) override {
         if (guide_) guide_->endPass(summary);
         if (shares_) {
-            if (shares_->learning()) shares_->keepSegments(pointLightInMedium(scene));  // read at the decision
+            if (shares_->learning()) shares_->keepSegments(pointLikeLightInMedium(scene));  // read at the decision
             shares_->endPass(summary);
         }
         start_.endPass(summary);
@@ -112,8 +112,8 @@ public:
     const PathGuide* guide() const { return guide_.get(); }
 
 private:
-    // A point or spot light inside a medium (ConnectionShares::keepSegments).
-    static bool pointLightInMedium(const Scene& scene);
+    // A point, spot or sphere light inside a medium (ConnectionShares::keepSegments).
+    static bool pointLikeLightInMedium(const Scene& scene);
     static GuidingSettings guideSettings(const PathTracerOptions& o) {
         GuidingSettings s;
         s.fixedShare = o.guideShare;

@@ -118,16 +118,12 @@ TEST_CASE("connection shares: the learning sees each technique's stratification"
     CHECK(keepC.segment == 1.0f);
 }
 
-// Where a point or spot light lies inside a medium, leaving C out would leave A alone near
-// it, with infinite variance (connection_shares.h, keepSegments): the learning that keeps A
-// alone above keeps C too there, and the path tracer rules it out in a scene with a point
-// light in fog (the report names why).
-TEST_CASE("connection shares: C is not left out where a point light lies in a medium", "[pt][quick]") {
-    const double stratified[8] = {2.0, 0.0, 0.0, 2.1, 2.0, 0.1, 0.0, 1.9};
-    const double white[8] = {2.0, 2.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0};
-    const ConnectionShares::Shares kept = learnFrom(stratified, white, true);
-    CHECK(kept.segment == 1.0f);
-    auto scene = loadTestScene("single_near.gltf");  // a point light inside the fog
+namespace {
+
+// The path tracer's learning on a test scene with a point-like light in fog keeps C, and its
+// report names why.
+void checkKeepsC(const char* sceneName) {
+    auto scene = loadTestScene(sceneName);
     PathTracerOptions o{-1, true, ConnectMode::Mis};
     o.learnShares = true;
     PathTracer pt(o);
@@ -137,17 +133,24 @@ TEST_CASE("connection shares: C is not left out where a point light lies in a me
     CHECK(shares.report().find("not a candidate: a point-like light in a medium") != std::string::npos);
 }
 
+}  // namespace
+
+// Where a point or spot light lies inside a medium, leaving C out would leave A alone near
+// it, with infinite variance (connection_shares.h, keepSegments): the learning that keeps A
+// alone above keeps C too there, and the path tracer rules it out in a scene with a point
+// light in fog.
+TEST_CASE("connection shares: C is not left out where a point light lies in a medium", "[pt][quick]") {
+    const double stratified[8] = {2.0, 0.0, 0.0, 2.1, 2.0, 0.1, 0.0, 1.9};
+    const double white[8] = {2.0, 2.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0};
+    const ConnectionShares::Shares kept = learnFrom(stratified, white, true);
+    CHECK(kept.segment == 1.0f);
+    checkKeepsC("single_near.gltf");  // a point light inside the fog
+}
+
 // The same beside a sphere light in fog: A alone is not unbounded there (a light point's
 // solid angle is at most 2π), but from free-flight points near a small sphere it carries
 // (R/r)², rare values far above the haze's that 8 learning passes do not show (dusk_haze,
 // 0.12-m lamps: A alone learned at 2 seeds of 12, single pixels 20–50× their mean).
 TEST_CASE("connection shares: C is not left out where a sphere light lies in a medium", "[pt][quick]") {
-    auto scene = loadTestScene("sphere_light_fog.gltf");
-    PathTracerOptions o{-1, true, ConnectMode::Mis};
-    o.learnShares = true;
-    PathTracer pt(o);
-    const ConnectionShares& shares = learned(*scene, pt);
-    INFO(shares.report());
-    CHECK(shares.shares().segment == 1.0f);
-    CHECK(shares.report().find("not a candidate: a point-like light in a medium") != std::string::npos);
+    checkKeepsC("sphere_light_fog.gltf");  // a 0.25-m sphere light inside the fog
 }
